@@ -1,0 +1,278 @@
+"""BiGymEnv: the Gymnasium step/reset loop shared by every task.
+
+A task subclasses :class:`BiGymEnv` and fills in a few hooks: build its props into the
+spec, bind ids after compiling, randomise on reset, and say when it has succeeded or
+failed. The loop itself does no name look-ups and builds no static data per step.
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+from typing import Any, ClassVar
+
+import gymnasium as gym
+import mujoco
+import numpy as np
+
+from bigym.action_modes import ActionMode, JointPositionActionMode
+from bigym.layout import Layout
+from bigym.observations import ObservationConfig, ProprioceptionReader
+from bigym.props.visual_merge import merge_visual_geoms
+from bigym.rendering import CameraRenderer, HumanViewer
+from bigym.robot.h1 import build_robot
+from bigym.robot.robot import Robot
+from bigym.world import TIMESTEP, add_world
+
+PHYSICS_FREQUENCY = round(1.0 / TIMESTEP)  # 500 Hz
+MIN_CONTROL_FREQUENCY, MAX_CONTROL_FREQUENCY = 20, 500
+# MuJoCo's warnings: each means the simulation can no longer be trusted.
+_INSTABILITY_WARNINGS = {
+    mujoco.mjtWarning.mjWARN_INERTIA: "bad inertia",
+    mujoco.mjtWarning.mjWARN_CONTACTFULL: "contact buffer full",
+    mujoco.mjtWarning.mjWARN_CNSTRFULL: "constraint buffer full",
+    mujoco.mjtWarning.mjWARN_BADQPOS: "bad qpos (NaN, inf or huge)",
+    mujoco.mjtWarning.mjWARN_BADQVEL: "bad qvel (NaN, inf or huge)",
+    mujoco.mjtWarning.mjWARN_BADQACC: "bad qacc (NaN, inf or huge)",
+    mujoco.mjtWarning.mjWARN_BADCTRL: "bad ctrl (NaN or inf)",
+}
+
+
+class BiGymEnv(gym.Env):
+    """A BiGym task: H1 with two grippers in a scene, sparse reward 1.0 on success."""
+
+    metadata: ClassVar[dict[str, Any]] = {"render_modes": ["human", "rgb_array"], "render_fps": 50}
+
+    # Task settings, overridden by subclasses.
+    time_limit: ClassVar[float] = 20.0  # seconds of simulated time per episode
+    robot_start: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # x, y, yaw
+    workspace_radius: ClassVar[float] = 5.0  # leaving this disc around the start is a failure
+    robot_start_noise: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # +- x, y, yaw at reset
+    scene_name: ClassVar[str | None] = None  # a kitchen layout from bigym.scenes, or none
+
+    def __init__(
+        self,
+        action_mode: ActionMode | None = None,
+        observation_config: ObservationConfig | None = None,
+        render_mode: str | None = None,
+        control_frequency: float = 50,
+        render_resolution: tuple[int, int] = (480, 640),
+    ) -> None:
+        super().__init__()
+        # Constructor arguments that select a task variant (e.g. which hand); subclasses set them.
+        self.task_kwargs: dict[str, Any] = getattr(self, "task_kwargs", {})
+        self.action_mode = action_mode if action_mode is not None else JointPositionActionMode()
+        if not isinstance(self.action_mode, ActionMode):
+            raise TypeError(f"action_mode must be an ActionMode, got {type(self.action_mode).__name__}")
+        self.observation_config = observation_config if observation_config is not None else ObservationConfig()
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(f"render_mode {render_mode!r} not in {self.metadata['render_modes']}")
+        # numbers.Real also admits numpy scalars (np.int64(50) from a config or an array).
+        if not (
+            isinstance(control_frequency, numbers.Real)
+            and MIN_CONTROL_FREQUENCY <= control_frequency <= MAX_CONTROL_FREQUENCY
+        ):
+            raise ValueError(
+                f"control_frequency must be within [{MIN_CONTROL_FREQUENCY}, {MAX_CONTROL_FREQUENCY}] Hz, "
+                f"got {control_frequency!r}"
+            )
+        control_frequency = float(control_frequency)
+        self.render_mode = render_mode
+        self.substeps = round(PHYSICS_FREQUENCY / control_frequency)
+        # The rate actually run: 500 Hz divided by a whole number of physics steps.
+        self.control_frequency = PHYSICS_FREQUENCY / self.substeps
+        self.metadata = {**self.metadata, "render_fps": self.control_frequency}
+        self.max_episode_steps = math.ceil(self.time_limit * self.control_frequency)
+
+        spec, description = build_robot(self.action_mode.robot_config())
+        add_world(spec)
+        self.scene = None
+        self.props: dict = {}
+        if self.scene_name is not None:
+            from bigym.scenes import make_scene
+
+            self.scene = make_scene(self.scene_name)
+            self.props = self.scene.populate(spec)
+        self._build_scene(spec)
+        self.mj_spec = spec
+        merge_visual_geoms(spec, skip_subtrees=(description.pelvis_body,))  # fewer draw calls; physics unchanged
+        self.model = spec.compile()
+        self.data = mujoco.MjData(self.model)
+        self.robot = Robot(self.model, description)
+        self._controller = self.action_mode.controller(self.robot, self.substeps)
+        if self.scene is not None:
+            self.scene.bind(self.model, self.data)
+        self._bind(self.model, self.data)
+
+        self.action_space = gym.spaces.Box(self._controller.low, self._controller.high, dtype=np.float32)
+        self._proprioception = ProprioceptionReader(self.model, self.robot) if self.observation_config.proprioception else None
+        self.observation_space = self._make_observation_space()
+        self._renderer = (
+            CameraRenderer(self.model, self.observation_config.cameras) if self.observation_config.cameras else None
+        )
+        self._render_resolution = render_resolution
+        self._external_renderer: CameraRenderer | None = None
+        self._viewer: HumanViewer | None = None
+
+        # Hot-loop state: cached views and index arrays. Views of MjData's arrays stay valid for
+        # the env's life: reset (mj_resetData) and state copies write into the same memory.
+        self._ctrl = self.data.ctrl[: self.robot.num_actuators]
+        self._warning_counts = self.data.warning.number
+        self._pelvis_xy = self.data.xpos[self.robot.pelvis_id, :2]
+        self._elapsed_steps = 0
+        self._unstable_reason: str | None = None
+        self._last_obs: dict[str, np.ndarray] | None = None
+
+    # ------------------------------------------------------------------ task hooks
+    def _build_scene(self, spec: mujoco.MjSpec) -> None:
+        """Add the task's props to ``spec`` (before compiling)."""
+
+    def _bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        """Resolve the task's ids and index arrays once, after compiling."""
+
+    def _on_reset(self) -> None:
+        """Randomise the task with ``self.np_random`` (robot already at its start pose)."""
+
+    def _success(self) -> bool:
+        return False
+
+    def _failure(self) -> bool:
+        """The episode can no longer succeed; by default: the robot left the workspace."""
+        x, y = self._pelvis_xy.tolist()  # Python floats: scalar arithmetic without numpy overhead
+        dx, dy = x - self.robot_start[0], y - self.robot_start[1]
+        return dx * dx + dy * dy > self.workspace_radius**2
+
+    def _privileged_spaces(self) -> dict[str, gym.spaces.Box]:
+        return {}
+
+    def _privileged_observation(self, obs: dict[str, np.ndarray]) -> None:
+        """Add task state (object poses, joint states) to ``obs``."""
+
+    # ------------------------------------------------------------------ layouts
+    @property
+    def action_layout(self) -> Layout:
+        """Name, index, bounds and unit of every action entry."""
+        return self._controller.layout
+
+    @property
+    def observation_layout(self) -> Layout:
+        """Name and index of every entry of the ``proprioception`` vector."""
+        if self._proprioception is None:
+            raise AttributeError("proprioception is disabled in this env's ObservationConfig")
+        return self._proprioception.layout
+
+    @property
+    def task_name(self) -> str:
+        return type(self).__name__
+
+    # ------------------------------------------------------------------ spaces
+    def _make_observation_space(self) -> gym.spaces.Dict:
+        spaces: dict[str, gym.spaces.Space] = {}
+        if self._proprioception is not None:
+            spaces.update(self._proprioception.spaces)
+        for camera in self.observation_config.cameras:
+            h, w = camera.resolution
+            if camera.rgb:
+                spaces[f"rgb_{camera.name}"] = gym.spaces.Box(0, 255, (3, h, w), np.uint8)
+            if camera.depth:
+                spaces[f"depth_{camera.name}"] = gym.spaces.Box(0.0, np.inf, (h, w), np.float32)
+        if self.observation_config.privileged_information:
+            spaces.update(self._privileged_spaces())
+        return gym.spaces.Dict(spaces)
+
+    def _observe(self) -> dict[str, np.ndarray]:
+        obs: dict[str, np.ndarray] = {}
+        if self._proprioception is not None:
+            self._proprioception.read(self.data, obs)
+        if self._renderer is not None:
+            self.robot.pose_legs(self.model, self.data)
+            self._renderer.render(self.data, obs)
+        if self.observation_config.privileged_information:
+            self._privileged_observation(obs)
+        return obs
+
+    # ------------------------------------------------------------------ gym API
+    def reset(self, *, seed: int | None = None, options: dict | None = None):
+        super().reset(seed=seed)
+        model, data = self.model, self.data
+        mujoco.mj_resetData(model, data)
+        start = np.array(self.robot_start) + self.np_random.uniform(-1.0, 1.0, 3) * self.robot_start_noise
+        self.robot.reset(model, data, start[:2], start[2])
+        mujoco.mj_kinematics(model, data)
+        self._on_reset()
+        mujoco.mj_forward(model, data)
+        self._elapsed_steps = 0
+        self._unstable_reason = None
+        obs = self._observe()
+        self._last_obs = obs
+        return obs, {"is_success": self._success()}
+
+    def step(self, action):
+        if self._unstable_reason is not None:
+            # The physics blew up last step: nothing more happens until reset().
+            info = {"is_success": False, "unstable": self._unstable_reason}
+            return self._last_obs, 0.0, False, True, info
+        controller = self._controller
+        controller.apply(self._ctrl, controller.validate(action))
+        model, data = self.model, self.data
+        # mj_step2 then mj_step1 per physics step: the same physics as mj_step, bit for bit,
+        # but it ends with positions, contacts and sensors computed for the *new* state, so
+        # observations, images and success all describe the state the step returns.
+        step1, step2 = mujoco.mj_step1, mujoco.mj_step2
+        for _ in range(self.substeps):
+            step2(model, data)
+            step1(model, data)
+        self._elapsed_steps += 1
+        if any(self._warning_counts.tolist()):  # ~10x faster than ndarray.any() on these few ints
+            return self._unstable_step()
+        obs = self._observe()
+        self._last_obs = obs
+        success = self._success()
+        terminated = success or self._failure()
+        truncated = self._elapsed_steps >= self.max_episode_steps
+        info = {"is_success": success}
+        if truncated:
+            info["time_limit"] = True
+        if self.render_mode == "human":
+            self.render()
+        return obs, 1.0 if success else 0.0, terminated, truncated, info
+
+    def _unstable_step(self):
+        counts = self.data.warning.number
+        reasons = [text for code, text in _INSTABILITY_WARNINGS.items() if counts[code]]
+        self._unstable_reason = f"unstable physics at t={self.data.time:.3f}s: " + ", ".join(reasons)
+        # MuJoCo may have reset the state itself: report the last good observation.
+        info = {"is_success": False, "unstable": self._unstable_reason}
+        return self._last_obs, 0.0, False, True, info
+
+    def render(self):
+        if self.render_mode == "rgb_array":
+            if self._external_renderer is None:
+                from bigym.observations import CameraConfig
+
+                h, w = self._render_resolution
+                # The viewing camera shows the sky; observation cameras skip it for speed.
+                self._external_renderer = CameraRenderer(
+                    self.model, [CameraConfig("external", resolution=(h, w))], skybox=True
+                )
+            frame: dict[str, np.ndarray] = {}
+            self.robot.pose_legs(self.model, self.data)
+            self._external_renderer.render(self.data, frame)
+            return frame["rgb_external"].transpose(1, 2, 0).copy()
+        if self.render_mode == "human":
+            if self._viewer is None:
+                self._viewer = HumanViewer(self.model, self.data)
+            self.robot.pose_legs(self.model, self.data)
+            self._viewer.sync()
+            return None
+        return None
+
+    def close(self) -> None:
+        for renderer in (self._renderer, self._external_renderer):
+            if renderer is not None:
+                renderer.close()
+        self._renderer = self._external_renderer = None
+        if self._viewer is not None:
+            self._viewer.close()
+            self._viewer = None
+        super().close()

@@ -1,0 +1,1 @@
+"""The BiGym tasks, one module per family."""

@@ -1,0 +1,125 @@
+"""Exports: LeRobot v3.0 layout and robomimic-style HDF5."""
+
+from __future__ import annotations
+
+import json
+
+import h5py
+import imageio.v2 as imageio
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from bigym.demonstrations import DemoError, replay_many
+from bigym.demonstrations.export import export_lerobot, export_robomimic
+from bigym.observations import CameraConfig, ObservationConfig
+
+CONFIG = ObservationConfig(
+    cameras=(CameraConfig("head", resolution=(24, 32)), CameraConfig("left_wrist", depth=True, resolution=(16, 16)))
+)
+
+
+@pytest.fixture(scope="module")
+def replayed(expert_demos):
+    # Two episodes of one task in one action mode: the delta demo is converted to absolute on the fly.
+    demos = [expert_demos["single_absolute"], expert_demos["single_delta"]]
+    converted = replay_many(demos[:1], CONFIG, 50, progress=False)
+    converted += replay_many(demos[1:], CONFIG, 50, action_mode=demos[0].metadata.action_mode, progress=False)
+    return converted
+
+
+def test_lerobot_v3_layout(replayed, tmp_path):
+    root = export_lerobot(replayed, tmp_path / "dataset")
+    lengths = [len(r) for r in replayed]
+    total = sum(lengths)
+    info = json.loads((root / "meta" / "info.json").read_text())
+    assert info["codebase_version"] == "v3.0" and info["fps"] == 50
+    assert info["total_episodes"] == 2 and info["total_frames"] == total and info["total_tasks"] == 1
+    assert info["data_path"] == "data/chunk-{chunk_index:03d}/file-{file_index:03d}.parquet"
+    assert info["video_path"] == "videos/{video_key}/chunk-{chunk_index:03d}/file-{file_index:03d}.mp4"
+    assert info["splits"] == {"train": "0:2"} and info["chunks_size"] == 1000
+    features = info["features"]
+    for name in ("timestamp", "frame_index", "episode_index", "index", "task_index"):
+        assert features[name]["shape"] == [1]
+    assert features["observation.state"]["shape"] == [60] and len(features["observation.state"]["names"]) == 60
+    assert features["action"] == {"dtype": "float32", "shape": [16], "names": replayed[0].metadata.action_names}
+    head = features["observation.images.head"]
+    assert head["dtype"] == "video" and head["shape"] == [24, 32, 3]
+    assert head["names"] == ["height", "width", "channels"] and head["info"]["video.fps"] == 50
+    assert not any("/" in name for name in features)
+    assert "observation.depth_left_wrist" not in features  # depth is not exported to LeRobot
+
+    data = pq.read_table(root / "data" / "chunk-000" / "file-000.parquet")
+    assert data.num_rows == total
+    assert set(data.column_names) == {name for name, f in features.items() if f["dtype"] != "video"}
+    assert data.column("index").to_pylist() == list(range(total))
+    assert data.column("frame_index").to_pylist() == list(range(lengths[0])) + list(range(lengths[1]))
+    np.testing.assert_allclose(
+        np.array(data.column("action").to_pylist())[: lengths[0]], replayed[0].actions.astype(np.float32)
+    )
+    np.testing.assert_array_equal(
+        np.array(data.column("observation.state").to_pylist())[lengths[0] :],
+        replayed[1].observations["proprioception"][:-1],
+    )
+    assert data.column("timestamp").to_pylist()[1] == pytest.approx(0.02)
+
+    episodes = pq.read_table(root / "meta" / "episodes" / "chunk-000" / "file-000.parquet").to_pylist()
+    assert [e["episode_index"] for e in episodes] == [0, 1]
+    spans = [(e["dataset_from_index"], e["dataset_to_index"]) for e in episodes]
+    assert spans == [(0, lengths[0]), (lengths[0], total)]
+    assert episodes[1]["videos/observation.images.head/from_timestamp"] == pytest.approx(lengths[0] / 50)
+    assert episodes[0]["tasks"][0].startswith("Reach the target with one named wrist (hand")
+    assert "stats/action/mean" in episodes[0] and episodes[0]["meta/episodes/file_index"] == 0
+
+    tasks = pq.read_table(root / "meta" / "tasks.parquet")
+    assert tasks.column("task_index").to_pylist() == [0]
+    assert json.loads(tasks.schema.metadata[b"pandas"])["index_columns"] == ["task"]
+    stats = json.loads((root / "meta" / "stats.json").read_text())
+    assert stats["action"]["count"] == [total] and len(stats["action"]["mean"]) == 16
+    assert np.array(stats["observation.images.head"]["mean"]).shape == (3, 1, 1)
+    head_stats = stats["observation.images.head"]
+    assert 0.0 <= np.min(head_stats["min"]) <= np.max(head_stats["max"]) <= 1.0
+
+    for key, (h, w) in (("head", (24, 32)), ("left_wrist", (16, 16))):
+        reader = imageio.get_reader(root / "videos" / f"observation.images.{key}" / "chunk-000" / "file-000.mp4")
+        frames = [frame for frame in reader]
+        reader.close()
+        assert len(frames) == total and frames[0].shape == (h, w, 3)
+        # Lossy, but close to the rendered frames.
+        first = replayed[0].observations[f"rgb_{key}"][0].transpose(1, 2, 0).astype(float)
+        assert np.abs(frames[0].astype(float) - first).mean() < 12
+
+
+def test_lerobot_export_refuses_fractional_fps_and_existing_folders(replayed, tmp_path, expert_demos):
+    odd = replay_many([expert_demos["single_absolute"]], None, 30, progress=False)
+    with pytest.raises(DemoError, match="whole number of frames per second"):
+        export_lerobot(odd, tmp_path / "odd")
+    assert not (tmp_path / "odd").exists()
+    (tmp_path / "taken").mkdir()
+    with pytest.raises(DemoError, match="exists"):
+        export_lerobot(replayed, tmp_path / "taken")
+    with pytest.raises(DemoError, match="must share one control rate"):
+        export_lerobot([replayed[0], odd[0]], tmp_path / "mixed")
+
+
+def test_robomimic_hdf5(replayed, tmp_path):
+    path = export_robomimic(replayed, tmp_path / "demos.hdf5")
+    with h5py.File(path, "r") as f:
+        data = f["data"]
+        assert data.attrs["total"] == sum(len(r) for r in replayed)
+        env_args = json.loads(data.attrs["env_args"])
+        assert env_args["env_name"] == "bigym/ReachTargetSingle-v0" and env_args["type"] == 2
+        assert env_args["env_kwargs"]["control_frequency"] == 50
+        assert sorted(data) == ["demo_0", "demo_1"]
+        for k, demo in enumerate(replayed):
+            group = data[f"demo_{k}"]
+            steps = len(demo)
+            assert group.attrs["num_samples"] == steps and group.attrs["uuid"] == demo.uuid
+            np.testing.assert_array_equal(group["actions"][:], demo.actions)
+            assert group["rewards"].shape == (steps,) and group["dones"][-1] == 1 and group["dones"][:-1].sum() == 0
+            np.testing.assert_array_equal(group["states"][:], demo.states[:-1])
+            assert group["obs/rgb_head"].shape == (steps, 24, 32, 3)
+            assert group["obs/depth_left_wrist"].shape == (steps, 16, 16, 1)
+            np.testing.assert_array_equal(group["obs/rgb_head"][0], demo.observations["rgb_head"][0].transpose(1, 2, 0))
+            np.testing.assert_array_equal(group["next_obs/proprioception"][:], demo.observations["proprioception"][1:])
+        assert [name.decode() for name in f["mask/train"][:]] == ["demo_0", "demo_1"]

@@ -1,0 +1,149 @@
+"""The expert dataset: byte-reproducible demos, the generate/stats/dataset commands, the
+shipped manifest and the check of a copy against it."""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import os
+import subprocess
+import sys
+
+import pytest
+from typer.testing import CliRunner
+
+import bigym.demonstrations.cli as demos_cli
+from bigym.cli import app
+from bigym.demonstrations import Demo, DemoStore
+from bigym.experts.dataset import (
+    DATASET_TASKS,
+    DATASET_VERSION,
+    DEMOS_PER_TASK,
+    build_dataset,
+    check_dataset,
+    compare_manifests,
+    shipped_manifest_path,
+)
+
+runner = CliRunner()
+
+_RECORD = """
+import hashlib
+from bigym.experts.generate import record_attempt
+attempt = record_attempt("ReachTargetDual", 0, 4, date="2026-01-01T00:00:00Z")
+print(attempt.success, hashlib.sha256(attempt.data).hexdigest())
+"""
+
+
+def run(*args):
+    return runner.invoke(app, ["demos", *map(str, args)])
+
+
+@pytest.fixture(autouse=True)
+def wide_console(monkeypatch):
+    monkeypatch.setattr(demos_cli.console, "width", 250)
+    monkeypatch.setattr(demos_cli.err_console, "width", 250)
+
+
+def test_an_expert_demo_has_the_same_bytes_in_every_process():
+    """safetensors writes its metadata in hash order, which changes per process; the demo
+    files must not (the dataset's checksums are checked on regeneration)."""
+    outputs = set()
+    for hash_seed in ("1", "2"):
+        env = {**os.environ, "PYTHONHASHSEED": hash_seed}
+        done = subprocess.run([sys.executable, "-c", _RECORD], env=env, capture_output=True, text=True, check=True)
+        outputs.add(done.stdout.strip().splitlines()[-1])
+    assert len(outputs) == 1, outputs
+    success, _ = outputs.pop().split()
+    assert success == "True"
+
+
+def test_demo_header_keys_are_sorted_and_the_file_still_loads(tmp_path):
+    import safetensors.numpy
+
+    from bigym.experts.generate import record_attempt
+
+    attempt = record_attempt("ReachTargetDual", 0, 5, date="2026-01-01T00:00:00Z", verify=False)
+    data = attempt.data
+    size = int.from_bytes(data[:8], "little")
+    assert size % 8 == 0
+    header = json.loads(data[8 : 8 + size])
+    assert list(header) == sorted(header)
+    assert list(header["__metadata__"]) == sorted(header["__metadata__"])
+    assert set(safetensors.numpy.load(data)) == {"actions", "initial_state", "checkpoint_steps", "checkpoint_states"}
+    demo = Demo.from_bytes(data)
+    assert demo.to_bytes() == data  # a load/save round trip changes nothing
+    assert demo.metadata.date == "2026-01-01T00:00:00Z"
+
+
+def test_generate_command_fills_a_store_and_stats_measures_it(tmp_path):
+    store = tmp_path / "store"
+    result = run("generate", "reach_target_dual", "-n", 2, "--workers", 1, "--store", store)
+    assert result.exit_code == 0, result.output
+    assert "kept 2/2" in result.output and "generator success rate" in result.output
+    entries = DemoStore(store).entries(task="ReachTargetDual")
+    assert len(entries) == 2 and all(e.success and e.source == "expert" for e in entries)
+    plot, figures = tmp_path / "paths.png", tmp_path / "figures.json"
+    result = run("stats", "ReachTargetDual", "-n", 2, "--store", store, "--plot", plot, "--json", figures)
+    assert result.exit_code == 0, result.output
+    assert "plain controller" in result.output and "path length / straight distance" in result.output
+    assert plot.stat().st_size > 1000
+    payload = json.loads(figures.read_text())
+    assert payload["demos"]["count"] == 2 and payload["plain"]["count"] == 2
+    assert payload["demos"]["hand_split"]["both"] == 1.0  # the dual task uses both hands
+
+
+def test_generate_and_stats_fail_clearly(tmp_path):
+    result = run("generate", "StackBlocks", "-n", 1, "--store", tmp_path / "s")
+    assert result.exit_code == 1 and "no expert for StackBlocks" in result.output
+    result = run("generate", "NoSuchTask", "--store", tmp_path / "s")
+    assert result.exit_code == 1 and "unknown task" in result.output
+    result = run("stats", "DrawerTopOpen", "--store", tmp_path / "empty")
+    assert result.exit_code == 1 and "--source fresh" in result.output
+
+
+def test_shipped_manifest_lists_fifty_demos_of_each_task():
+    payload = json.loads(shipped_manifest_path().read_text())
+    assert payload["version"] == DATASET_VERSION
+    per_task: dict[str, int] = {}
+    for entry in payload["demos"]:
+        assert entry["success"] is True and entry["source"] == "expert" and entry["frequency"] == 500
+        assert entry["action_mode"]["absolute"] is True and entry["action_mode"]["floating_base"] is True
+        assert len(entry["sha256"]) == 64 and entry["size"] > 0
+        per_task[entry["task"]] = per_task.get(entry["task"], 0) + 1
+    assert per_task == {task: DEMOS_PER_TASK for task in DATASET_TASKS}
+
+
+def test_a_rebuilt_task_matches_the_shipped_manifest_file_for_file(tmp_path):
+    """The first demos of a task, regenerated here, have the shipped names and checksums."""
+    build_dataset(tmp_path / "store", ("ReachTargetDual",), workers=1, progress=False, per_task=3)
+    check = check_dataset(tmp_path / "store", ("ReachTargetDual",))
+    assert not check.different and not check.extra, check.summary()
+    assert len(check.matching) == 3 and len(check.missing) == DEMOS_PER_TASK - 3
+
+
+def test_check_reports_missing_changed_and_extra_files():
+    def manifest(files: dict[str, str]) -> str:
+        demos = [{"path": p, "size": 10, "sha256": hashlib.sha256(c.encode()).hexdigest()} for p, c in files.items()]
+        return json.dumps({"version": "v1", "demos": demos})
+
+    expected = manifest({"A/x/500hz/1.safetensors": "a", "A/x/500hz/2.safetensors": "b", "B/x/500hz/3.safetensors": "c"})
+    same = compare_manifests(expected, expected)
+    assert same.identical and "identical" in same.summary()
+    other = manifest({"A/x/500hz/1.safetensors": "a", "A/x/500hz/2.safetensors": "changed", "C/4.safetensors": "d"})
+    check = compare_manifests(expected, other)
+    assert not check.identical
+    assert check.matching == ["A/x/500hz/1.safetensors"]
+    assert check.different == ["A/x/500hz/2.safetensors"]
+    assert check.missing == ["B/x/500hz/3.safetensors"]
+    assert check.extra == ["C/4.safetensors"]
+    assert "1 missing" in check.summary() and "1 different" in check.summary()
+    only_a = compare_manifests(expected, other, tasks=("A",))
+    assert only_a.expected == 2 and not only_a.missing and not only_a.extra
+
+
+def test_dataset_check_command_exits_1_on_a_copy_that_differs(tmp_path):
+    store = DemoStore(tmp_path / "copy", version=DATASET_VERSION)
+    build_dataset(store.url, ("ReachTargetDual",), workers=1, progress=False, per_task=1)
+    result = run("dataset", "check", store.url, "--task", "ReachTargetDual")
+    assert result.exit_code == 1 and f"1 of {DEMOS_PER_TASK} demo files identical" in result.output
