@@ -8,6 +8,8 @@ module measures, from the wrist trajectories:
 * **hand split**: how often the left, the right or both hands do the work (the hand
   whose wrist moves most relative to the pelvis; both when the other moves at least
   60% as much);
+* **plans**: how many distinct plans (which hand does each job, in which order: the
+  expert's recorded choices) the episodes follow, and the share of the most common one;
 * **duration**: mean, standard deviation and coefficient of variation;
 * **path straightness**: per hand movement (a stretch where the active wrist moves
   faster than 5 cm/s for at least 0.2 s), path length over straight distance (1 =
@@ -25,6 +27,8 @@ module measures, from the wrist trajectories:
 from __future__ import annotations
 
 import dataclasses
+import json
+from collections import Counter
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -47,6 +51,7 @@ class Trajectory:
     rate: float
     duration: float
     success: bool = True
+    plan: str = ""  # the expert's discrete choices (hands, order), canonical JSON
 
 
 @dataclass
@@ -56,6 +61,8 @@ class Figures:
     label: str
     count: int
     hand_split: dict[str, float]
+    plans: int
+    top_plan_share: float
     duration_mean: float
     duration_std: float
     duration_cv: float
@@ -71,6 +78,7 @@ class Figures:
         return [
             ("episodes", f"{self.count}"),
             ("hand split", split),
+            ("distinct plans (hands, order)", f"{self.plans} (most common {100 * self.top_plan_share:.0f}%)"),
             ("duration (s)", f"{self.duration_mean:.2f} ± {self.duration_std:.2f} (cv {self.duration_cv:.2f})"),
             ("path length / straight distance", f"{self.straightness:.3f}"),
             ("bell-shaped speed (corr.)", f"{self.bell_correlation:.2f}"),
@@ -127,6 +135,12 @@ def _sample(env, wrists: list, local: list) -> None:
     local.append((positions - origin) @ rotation)
 
 
+def plan_key(choices: dict | None) -> str:
+    """The discrete part of an expert's choices (which hand, which order) as one string."""
+    choices = choices or {}
+    return json.dumps({k: choices[k] for k in ("hands", "order") if k in choices}, sort_keys=True)
+
+
 def replay_trajectory(demo, env=None) -> Trajectory:
     """Step a demo's actions (no verification) and sample its wrist positions."""
     from bigym.demonstrations.player import make_env
@@ -146,7 +160,9 @@ def replay_trajectory(demo, env=None) -> Trajectory:
             if (step + 1) % SAMPLE_EVERY == 0:
                 _sample(base, wrists, local)
         rate = base.control_frequency / SAMPLE_EVERY
-        return Trajectory(np.array(wrists), np.array(local), rate, len(demo.actions) / base.control_frequency, success)
+        duration = len(demo.actions) / base.control_frequency
+        plan = plan_key(demo.metadata.extra.get("expert_choices"))
+        return Trajectory(np.array(wrists), np.array(local), rate, duration, success, plan)
     finally:
         if own:
             env.close()
@@ -179,6 +195,7 @@ def expert_trajectory(env, seed: int, style: HumanStyle) -> Trajectory:
         base.control_frequency / SAMPLE_EVERY,
         steps / base.control_frequency,
         success,
+        plan_key(expert.choices),
     )
 
 
@@ -262,6 +279,7 @@ def measure(trajectories: list[Trajectory], label: str) -> Figures:
         raise ValueError("no trajectories to measure")
     hands = [active_hands(t) for t in trajectories]
     split = {name: hands.count(name) / len(hands) for name in ("left", "right", "both")}
+    plans = Counter(t.plan for t in trajectories)
     durations = np.array([t.duration for t in trajectories])
     per_movement = []
     actives = []
@@ -279,6 +297,8 @@ def measure(trajectories: list[Trajectory], label: str) -> Figures:
         label=label,
         count=len(trajectories),
         hand_split=split,
+        plans=len(plans),
+        top_plan_share=max(plans.values()) / len(trajectories),
         duration_mean=float(durations.mean()),
         duration_std=float(durations.std()),
         duration_cv=float(durations.std() / durations.mean()) if durations.mean() > 0 else 0.0,

@@ -98,6 +98,7 @@ def test_stats_compare_demos_with_the_plain_controller(tmp_path):
     report = demo_stats("ReachTargetMultiModal", n=6, seed=0, plot=tmp_path / "paths.png")
     assert report.demos.count == 6 and report.plain is not None
     assert set(report.demos.hand_split) == {"left", "right", "both"}
+    assert report.demos.plans == 2  # the left or the right hand reaches: two plans
     assert report.demos.duration_std > report.plain.duration_std * 0.5
     assert report.plot.exists() and report.plot.stat().st_size > 1000
     assert "plain controller" in report.table()

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from bigym.experts.motion import minimum_jerk_profile
-from bigym.experts.stats import Trajectory, active_hands, measure
+from bigym.experts.stats import Trajectory, active_hands, measure, plan_key
 
 RATE = 100.0
 
@@ -47,3 +47,20 @@ def test_hand_split_and_duration_spread():
     figures = measure([left, right, both, left], "set")
     assert figures.hand_split == {"left": 0.5, "right": 0.25, "both": 0.25}
     assert figures.duration_std == 0.0  # every trajectory lasts 0.81 s
+
+
+def test_plans_count_the_distinct_discrete_choices():
+    tau = np.linspace(0.0, 1.0, 81)
+    still = np.zeros((81, 3))
+    keys = [
+        plan_key({"hands": ["door:left"], "order": ["door"], "stance": 0.3}),
+        plan_key({"order": ["door"], "hands": ["door:left"], "stance": 0.7}),  # same plan
+        plan_key({"hands": ["door:right"], "order": ["door"]}),
+    ]
+    assert keys[0] == keys[1] != keys[2]
+    trajectories = [_trajectory(_reach(tau), still) for _ in keys]
+    for trajectory, key in zip(trajectories, keys):
+        trajectory.plan = key
+    figures = measure(trajectories, "set")
+    assert figures.plans == 2
+    assert figures.top_plan_share == pytest.approx(2 / 3)
