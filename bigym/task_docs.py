@@ -12,6 +12,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import bigym
+from bigym.env import BiGymEnv
 
 
 @dataclass(frozen=True)
@@ -52,7 +53,7 @@ def tasks_markdown() -> str:
         "Every task: reward 1.0 on the step the success condition holds, `terminated` on success or",
         "failure, `truncated` at the time limit (`info[\"time_limit\"]`) or on unstable physics",
         "(`info[\"unstable\"]`). Failure everywhere: the pelvis more than "
-        f"{bigym.env.BiGymEnv.workspace_radius:g} m from its start. Normalised joint states: 0 closed, 1 open.",
+        f"{BiGymEnv.workspace_radius:g} m from its start. Normalised joint states: 0 closed, 1 open.",
         "",
     ]
     by_module: dict[str, list[TaskInfo]] = {}
