@@ -11,9 +11,9 @@ from bigym.experts.stats import Trajectory, active_hands, measure, plan_key
 RATE = 100.0
 
 
-def _trajectory(left: np.ndarray, right: np.ndarray) -> Trajectory:
+def _trajectory(left: np.ndarray, right: np.ndarray, plan: str = "") -> Trajectory:
     wrists = np.stack([left, right], axis=1)
-    return Trajectory(wrists, wrists.copy(), RATE, len(left) / RATE)
+    return Trajectory(wrists, wrists.copy(), RATE, len(left) / RATE, plan=plan)
 
 
 def _reach(progress: np.ndarray, bend: float = 0.0) -> np.ndarray:
@@ -58,9 +58,7 @@ def test_plans_count_the_distinct_discrete_choices():
         plan_key({"hands": ["door:right"], "order": ["door"]}),
     ]
     assert keys[0] == keys[1] != keys[2]
-    trajectories = [_trajectory(_reach(tau), still) for _ in keys]
-    for trajectory, key in zip(trajectories, keys):
-        trajectory.plan = key
+    trajectories = [_trajectory(_reach(tau), still, plan=key) for key in keys]
     figures = measure(trajectories, "set")
     assert figures.plans == 2
     assert figures.top_plan_share == pytest.approx(2 / 3)
