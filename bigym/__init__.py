@@ -4,6 +4,10 @@ from __future__ import annotations
 
 import gymnasium as gym
 
+# Installs the fork handler that keeps offscreen rendering working in forked workers (see
+# bigym.gl_context): it must be in place before the first fork, whatever else is imported.
+import bigym.gl_context  # noqa: F401
+
 __version__ = "0.1.0"
 
 # Registered ids: bigym/<TaskName>-v0 -> "module:Class".

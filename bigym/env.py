@@ -16,10 +16,11 @@ import mujoco
 import numpy as np
 
 from bigym.action_modes import ActionMode, JointPositionActionMode
+from bigym.contacts import ContactState
 from bigym.layout import Layout
 from bigym.observations import ObservationConfig, ProprioceptionReader
-from bigym.props.visual_merge import merge_visual_geoms
-from bigym.rendering import CameraRenderer, HumanViewer
+from bigym.visual_merge import merge_visual_geoms
+from bigym.rendering import CameraRenderer, ClosedRenderer, HumanViewer
 from bigym.robot.h1 import build_robot
 from bigym.robot.robot import Robot
 from bigym.world import TIMESTEP, add_world
@@ -48,7 +49,6 @@ class BiGymEnv(gym.Env):
     robot_start: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # x, y, yaw
     workspace_radius: ClassVar[float] = 5.0  # leaving this disc around the start is a failure
     robot_start_noise: ClassVar[tuple[float, float, float]] = (0.0, 0.0, 0.0)  # +- x, y, yaw at reset
-    scene_name: ClassVar[str | None] = None  # a kitchen layout from bigym.scenes, or none
 
     def __init__(
         self,
@@ -86,28 +86,22 @@ class BiGymEnv(gym.Env):
 
         spec, description = build_robot(self.action_mode.robot_config())
         add_world(spec)
-        self.scene = None
-        self.props: dict = {}
-        if self.scene_name is not None:
-            from bigym.scenes import make_scene
-
-            self.scene = make_scene(self.scene_name)
-            self.props = self.scene.populate(spec)
+        self.props: dict = {}  # named objects of the task (filled by _build_scene)
         self._build_scene(spec)
         self.mj_spec = spec
         merge_visual_geoms(spec, skip_subtrees=(description.pelvis_body,))  # fewer draw calls; physics unchanged
         self.model = spec.compile()
+        self._place_cameras(self.model)
         self.data = mujoco.MjData(self.model)
         self.robot = Robot(self.model, description)
         self._controller = self.action_mode.controller(self.robot, self.substeps)
-        if self.scene is not None:
-            self.scene.bind(self.model, self.data)
+        self.contacts = ContactState(self.model, self.data)  # tasks register their geom sets in _bind
         self._bind(self.model, self.data)
 
         self.action_space = gym.spaces.Box(self._controller.low, self._controller.high, dtype=np.float32)
         self._proprioception = ProprioceptionReader(self.model, self.robot) if self.observation_config.proprioception else None
         self.observation_space = self._make_observation_space()
-        self._renderer = (
+        self._renderer: CameraRenderer | ClosedRenderer | None = (
             CameraRenderer(self.model, self.observation_config.cameras) if self.observation_config.cameras else None
         )
         self._render_resolution = render_resolution
@@ -119,9 +113,20 @@ class BiGymEnv(gym.Env):
         self._ctrl = self.data.ctrl[: self.robot.num_actuators]
         self._warning_counts = self.data.warning.number
         self._pelvis_xy = self.data.xpos[self.robot.pelvis_id, :2]
+        self._privileged = self.observation_config.privileged_information
+        self._human_view = render_mode == "human"
         self._elapsed_steps = 0
         self._unstable_reason: str | None = None
         self._last_obs: dict[str, np.ndarray] | None = None
+
+    def _place_cameras(self, model: mujoco.MjModel) -> None:
+        """Apply the ``pos``/``quat`` of the observation config's cameras (in the parent frame)."""
+        for camera in self.observation_config.cameras:
+            camera_id = model.camera(camera.name).id
+            if camera.pos is not None:
+                model.cam_pos[camera_id] = camera.pos
+            if camera.quat is not None:
+                model.cam_quat[camera_id] = camera.quat
 
     # ------------------------------------------------------------------ task hooks
     def _build_scene(self, spec: mujoco.MjSpec) -> None:
@@ -187,7 +192,7 @@ class BiGymEnv(gym.Env):
         if self._renderer is not None:
             self.robot.pose_legs(self.model, self.data)
             self._renderer.render(self.data, obs)
-        if self.observation_config.privileged_information:
+        if self._privileged:
             self._privileged_observation(obs)
         return obs
 
@@ -205,7 +210,12 @@ class BiGymEnv(gym.Env):
         self._unstable_reason = None
         obs = self._observe()
         self._last_obs = obs
-        return obs, {"is_success": self._success()}
+        self.contacts.hold()
+        try:
+            success = self._success()
+        finally:
+            self.contacts.release()
+        return obs, {"is_success": success}
 
     def step(self, action):
         if self._unstable_reason is not None:
@@ -227,13 +237,18 @@ class BiGymEnv(gym.Env):
             return self._unstable_step()
         obs = self._observe()
         self._last_obs = obs
-        success = self._success()
-        terminated = success or self._failure()
+        contacts = self.contacts
+        contacts.hold()  # the checks below share one reading of the contacts
+        try:
+            success = self._success()
+            terminated = success or self._failure()
+        finally:
+            contacts.release()
         truncated = self._elapsed_steps >= self.max_episode_steps
         info = {"is_success": success}
         if truncated:
             info["time_limit"] = True
-        if self.render_mode == "human":
+        if self._human_view:
             self.render()
         return obs, 1.0 if success else 0.0, terminated, truncated, info
 
@@ -271,7 +286,9 @@ class BiGymEnv(gym.Env):
         for renderer in (self._renderer, self._external_renderer):
             if renderer is not None:
                 renderer.close()
-        self._renderer = self._external_renderer = None
+        if self._renderer is not None:
+            self._renderer = ClosedRenderer()
+        self._external_renderer = None
         if self._viewer is not None:
             self._viewer.close()
             self._viewer = None

@@ -30,22 +30,72 @@ CAMERA_NAMES = (*CAMERAS, "external")
 
 @dataclass(frozen=True)
 class CameraConfig:
-    """One camera's images: ``resolution`` is (height, width)."""
+    """One camera's images: ``resolution`` is (height, width).
+
+    ``pos`` (x, y, z in metres) and ``quat`` (w, x, y, z, normalised here) move the camera:
+    in its parent's frame, which is the world for ``external`` and the carrying link for
+    the robot cameras (the torso for ``head``, the elbow links for the wrists). Either may
+    be given alone; the other keeps the built-in value. MuJoCo cameras look along their
+    local -z axis with +y up in the image.
+    """
 
     name: str
     rgb: bool = True
     depth: bool = False
     resolution: tuple[int, int] = (84, 84)
+    pos: tuple[float, float, float] | None = None
+    quat: tuple[float, float, float, float] | None = None
 
     def __post_init__(self) -> None:
         if self.name not in CAMERA_NAMES:
             raise ValueError(f"unknown camera {self.name!r}; choose from {CAMERA_NAMES}")
-        height, width = self.resolution
+        try:
+            height, width = self.resolution
+        except (TypeError, ValueError):
+            raise ValueError(f"camera {self.name!r}: resolution must be (height, width), got {self.resolution!r}") from None
         if not (isinstance(height, int) and isinstance(width, int) and height > 0 and width > 0):
             raise ValueError(f"camera {self.name!r}: resolution must be two positive ints, got {self.resolution}")
         object.__setattr__(self, "resolution", (int(height), int(width)))
         if not (self.rgb or self.depth):
             raise ValueError(f"camera {self.name!r} renders neither rgb nor depth")
+        if self.pos is not None:
+            object.__setattr__(self, "pos", _finite_vector(self.name, "pos", self.pos, 3))
+        if self.quat is not None:
+            quat = np.array(_finite_vector(self.name, "quat", self.quat, 4))
+            norm = float(np.linalg.norm(quat))
+            if norm < 1e-6:
+                raise ValueError(f"camera {self.name!r}: quat must not be zero, got {self.quat!r}")
+            object.__setattr__(self, "quat", tuple(float(q) for q in quat / norm))
+
+    def to_dict(self) -> dict:
+        out = {"name": self.name, "rgb": self.rgb, "depth": self.depth, "resolution": list(self.resolution)}
+        # Only when set, so the content keys of replays made with the built-in poses stay as they were.
+        if self.pos is not None:
+            out["pos"] = list(self.pos)
+        if self.quat is not None:
+            out["quat"] = list(self.quat)
+        return out
+
+    @classmethod
+    def from_dict(cls, data: dict) -> CameraConfig:
+        return cls(
+            data["name"],
+            data["rgb"],
+            data["depth"],
+            tuple(data["resolution"]),
+            tuple(data["pos"]) if data.get("pos") is not None else None,
+            tuple(data["quat"]) if data.get("quat") is not None else None,
+        )
+
+
+def _finite_vector(camera: str, field_name: str, value, size: int) -> tuple[float, ...]:
+    try:
+        array = np.asarray(value, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise ValueError(f"camera {camera!r}: {field_name} must be {size} numbers, got {value!r}") from None
+    if array.shape != (size,) or not np.all(np.isfinite(array)):
+        raise ValueError(f"camera {camera!r}: {field_name} must be {size} finite numbers, got {value!r}")
+    return tuple(float(v) for v in array)
 
 
 @dataclass(frozen=True)
@@ -71,18 +121,14 @@ class ObservationConfig:
 
     def to_dict(self) -> dict:
         return {
-            "cameras": [
-                {"name": c.name, "rgb": c.rgb, "depth": c.depth, "resolution": list(c.resolution)} for c in self.cameras
-            ],
+            "cameras": [c.to_dict() for c in self.cameras],
             "proprioception": self.proprioception,
             "privileged_information": self.privileged_information,
         }
 
     @classmethod
     def from_dict(cls, data: dict) -> ObservationConfig:
-        cameras = tuple(
-            CameraConfig(c["name"], c["rgb"], c["depth"], tuple(c["resolution"])) for c in data.get("cameras", [])
-        )
+        cameras = tuple(CameraConfig.from_dict(c) for c in data.get("cameras", []))
         return cls(cameras, data.get("proprioception", True), data.get("privileged_information", False))
 
 

@@ -14,20 +14,8 @@ from collections.abc import Sequence
 import mujoco
 import numpy as np
 
+from bigym.gl_context import OffscreenGL
 from bigym.observations import CameraConfig
-
-
-def _make_gl_context(width: int, height: int):
-    try:
-        context = mujoco.GLContext(width, height)
-        context.make_current()
-    except Exception as error:  # the GL backend raises several types; all mean "no GL here"
-        backend = os.environ.get("MUJOCO_GL", "(unset)")
-        raise RuntimeError(
-            f"cannot create an OpenGL context for offscreen rendering (MUJOCO_GL={backend}): {error}. "
-            "On a headless machine set MUJOCO_GL=egl (or osmesa)."
-        ) from error
-    return context
 
 
 class CameraRenderer:
@@ -43,9 +31,7 @@ class CameraRenderer:
         # The offscreen buffer must hold the largest image; this touches only visual settings.
         model.vis.global_.offwidth = max(model.vis.global_.offwidth, width)
         model.vis.global_.offheight = max(model.vis.global_.offheight, height)
-        self._gl = _make_gl_context(width, height)
-        self._context = mujoco.MjrContext(model, mujoco.mjtFontScale.mjFONTSCALE_100)
-        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, self._context)
+        self._gl = OffscreenGL(model, width, height)
         self._scene = mujoco.MjvScene(model, maxgeom=max(1000, 2 * model.ngeom))
         self._scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = shadows
         self._scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = False
@@ -70,8 +56,8 @@ class CameraRenderer:
 
     def render(self, data: mujoco.MjData, out: dict[str, np.ndarray]) -> None:
         """Render every camera into ``out`` as ``rgb_<name>`` / ``depth_<name>`` (fresh arrays)."""
-        self._gl.make_current()
-        model, scene, context = self._model, self._scene, self._context
+        context = self._gl.make_current()
+        model, scene = self._model, self._scene
         for index, (config, camera, (viewport, rgb, depth)) in enumerate(
             zip(self._cameras, self._mjv_cameras, self._buffers)
         ):
@@ -94,10 +80,19 @@ class CameraRenderer:
         return (near / (1.0 - zbuffer * (1.0 - near / far))).astype(np.float32)
 
     def close(self) -> None:
-        if self._gl is not None:
-            self._context.free()
-            self._gl.free()
-            self._gl = None
+        """Release the GL resources now (idempotent); dropping the renderer does the same."""
+        self._gl.close()
+
+
+class ClosedRenderer:
+    """Stands in for a closed env's camera renderer: observing after ``close()`` is an error,
+    not an observation that silently lacks its images."""
+
+    def render(self, data: mujoco.MjData, out: dict[str, np.ndarray]) -> None:
+        raise RuntimeError("this env is closed and its cameras are released; create a new env")
+
+    def close(self) -> None:
+        pass
 
 
 class HumanViewer:

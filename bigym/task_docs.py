@@ -55,6 +55,12 @@ def tasks_markdown() -> str:
         "(`info[\"unstable\"]`). Failure everywhere: the pelvis more than "
         f"{BiGymEnv.workspace_radius:g} m from its start. Normalised joint states: 0 closed, 1 open.",
         "",
+        "Randomisation beyond the paper's: the original starts the robot at a fixed pose. Here every",
+        "reset adds a uniform offset within the *start noise* column (± x and ± y in metres, ± yaw",
+        "in radians) to the listed start pose, drawn from the env's seeded generator before the",
+        "task places its objects, so that a policy cannot memorise one viewpoint. Where a module",
+        "below randomises something else the original does not (e.g. door gaps), its text says so.",
+        "",
     ]
     by_module: dict[str, list[TaskInfo]] = {}
     for info in task_infos():
@@ -64,15 +70,19 @@ def tasks_markdown() -> str:
         doc = inspect.getdoc(module) or ""
         title, _, body = doc.partition("\n")
         lines += [f"## {title.rstrip('.')}", "", body.strip(), ""]
-        lines += ["| task | id | what to do | scene | robot start (x, y, yaw) | time limit (s) | fails when on the floor |"]
-        lines += ["|---|---|---|---|---|---|---|"]
+        lines += [
+            "| task | id | what to do | scene | robot start (x, y, yaw) | start noise (± x, y, yaw) "
+            "| time limit (s) | fails when on the floor |"
+        ]
+        lines += ["|---|---|---|---|---|---|---|---|"]
         for info in infos:
             cls = info.cls
             start = ", ".join(f"{v:g}" for v in cls.robot_start)
+            noise = ", ".join(f"{v:g}" for v in cls.robot_start_noise) if any(cls.robot_start_noise) else "none"
             floor = ", ".join(getattr(cls, "fail_on_floor", ())) or "-"
             lines.append(
-                f"| `{info.snake}` | `{info.env_id}` | {info.summary} | {cls.scene_name or '-'} "
-                f"| ({start}) | {cls.time_limit:g} | {floor} |"
+                f"| `{info.snake}` | `{info.env_id}` | {info.summary} | {getattr(cls, 'scene_name', None) or '-'} "
+                f"| ({start}) | {noise} | {cls.time_limit:g} | {floor} |"
             )
         lines.append("")
     return "\n".join(lines)

@@ -4,7 +4,9 @@ from __future__ import annotations
 
 from pathlib import Path
 
-import bigym
+import numpy as np
+import pytest
+
 from bigym.task_docs import readme_task_table, task_infos, tasks_markdown
 
 REPO = Path(__file__).resolve().parents[1]
@@ -26,7 +28,37 @@ def test_readme_lists_every_task_with_its_preview():
 def test_every_task_says_what_to_do():
     for info in task_infos():
         assert info.summary, f"{info.name} has no one-line docstring"
-        assert info.cls.time_limit > 0
+
+
+def _documented_start_noise(snake: str) -> tuple[float, float, float] | None:
+    """The start-noise cell of a task's row in docs/tasks.md (None for 'none')."""
+    for line in (REPO / "docs" / "tasks.md").read_text().splitlines():
+        if line.startswith(f"| `{snake}` |"):
+            cell = line.split("|")[6].strip()
+            return None if cell == "none" else tuple(float(v) for v in cell.split(","))
+    raise AssertionError(f"{snake} has no row in docs/tasks.md")
+
+
+@pytest.mark.parametrize("name", ["ReachTargetDual", "DrawerTopOpen"])
+def test_documented_start_noise_is_what_reset_does(name):
+    """docs/tasks.md's start noise, checked against the pelvis pose over many resets."""
+    info = next(i for i in task_infos() if i.name == name)
+    env = info.cls()
+    try:
+        offsets = []
+        for seed in range(40):
+            obs, _ = env.reset(seed=seed)
+            offsets.append(obs["proprioception_floating_base"][[0, 1, 3]] - np.array(info.cls.robot_start))
+        offsets = np.abs(np.array(offsets, dtype=np.float64))
+    finally:
+        env.close()
+    documented = _documented_start_noise(info.snake)
+    if documented is None:
+        assert offsets.max() < 1e-6, f"{name}: the robot start varies but docs/tasks.md says 'none'"
+    else:
+        assert np.all(offsets <= np.array(documented) + 1e-6), f"{name}: start offsets exceed the documented noise"
+        # 40 uniform draws reach at least 80% of each bound (fails with p < 1e-8 by chance).
+        assert np.all(offsets.max(axis=0) >= 0.8 * np.array(documented)), f"{name}: noise narrower than documented"
 
 
 def test_readme_setup_commands_match_ci():
@@ -35,4 +67,3 @@ def test_readme_setup_commands_match_ci():
     ci = (REPO / ".ci" / "run").read_text()
     command = 'python3 -m venv .venv && . .venv/bin/activate && pip install -e ".[dev]" && python -m pytest -q'
     assert command in readme and command in ci
-    assert len(bigym.TASKS) >= 3

@@ -15,6 +15,24 @@ ALL_TASKS = tuple(bigym.TASKS)
 REACH_TASKS = ("ReachTargetSingle", "ReachTargetMultiModal", "ReachTargetDual")
 
 
+def task_state(env) -> np.ndarray:
+    """What a task randomises, without the robot: the world pose of every prop's root body
+    (free and static props alike), the joint state of every articulated prop, and the
+    mocap bodies (the reach targets). The robot's random start offset is left out, so two
+    resets differ here only if the task itself placed its objects differently."""
+    from bigym.props.base import ArticulatedProp
+
+    unwrapped = env.unwrapped
+    data = unwrapped.data
+    parts = [data.mocap_pos.ravel(), data.mocap_quat.ravel()]
+    for _, prop in sorted(unwrapped.props.items()):
+        body = prop.root_body_id
+        parts += [data.xpos[body], data.xquat[body]]
+        if isinstance(prop, ArticulatedProp) and prop.joint_keys:
+            parts.append(prop.get_state(data))
+    return np.concatenate(parts).copy()
+
+
 def zero_action(env) -> np.ndarray:
     """An action that changes nothing in delta mode: zero deltas, grippers open."""
     return np.zeros(env.action_space.shape, np.float32)

@@ -259,7 +259,8 @@ def convert_demo(
         mode["absolute"] = to == "absolute"
     env = make_env(meta, ObservationConfig(proprioception=False), frequency, mode)
     try:
-        replayed = replay(demo, env=env, verify=verify, tolerance=tolerance, convert=True)
+        # the whole recording: the converted lightweight demo keeps what follows the episode too
+        replayed = replay(demo, env=env, verify=verify, tolerance=tolerance, convert=True, episode_only=False)
         rate = float(env.control_frequency)
         action_mode = env.action_mode.to_dict()
         names = list(env.action_layout.names)

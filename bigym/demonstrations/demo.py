@@ -210,6 +210,8 @@ class ReplayReport:
     first_success_step: int | None = None
     final_success: bool = False
     converted: str | None = None  # e.g. "500hz->50hz" or "absolute->delta"
+    replayed_steps: int = 0  # control steps replayed and checked: the whole recording
+    episode_steps: int = 0  # of those, the episode returned: up to its first terminal step
 
     def to_dict(self) -> dict:
         return dataclasses.asdict(self)
@@ -226,6 +228,9 @@ class ReplayedDemo:
 
     ``observations`` hold ``T + 1`` entries (the reset observation first); ``rewards``,
     ``terminated``, ``truncated`` and ``success`` describe the result of action ``t``.
+    The episode ends at its first terminal step: only the last step can be ``terminated``
+    or ``truncated``, as in an env rollout (what the recording holds beyond it was replayed
+    and checked, see ``report.replayed_steps``, but is not part of the episode).
     """
 
     metadata: Metadata

@@ -204,8 +204,9 @@ def replay(
     video: Path | str | None = None,
     video_fps: float = VIDEO_FPS,
     convert: bool = False,
+    episode_only: bool = True,
 ) -> ReplayedDemo:
-    """Replay ``demo`` into ``observation_config`` at ``frequency`` Hz; return the full demo.
+    """Replay ``demo`` into ``observation_config`` at ``frequency`` Hz; return its episode.
 
     ``env``: replay in this env (its observations, rate and action mode) instead of a new
     one. ``action_mode``: convert to another joint-position mode (absolute / delta) on the
@@ -213,8 +214,14 @@ def replay(
     (bit for bit when the replay is exact, else by more than ``tolerance`` on any joint
     position, default :func:`default_tolerance`) and :class:`DemoReplayError` when a demo
     marked successful never reaches success or the physics turns unstable. ``video``: also
-    write an mp4 of the external camera. ``convert``: allow ``env`` to use another
+    write an mp4 of the external camera (of the whole recording). ``convert``: allow ``env`` to use another
     joint-position mode than the demo (absolute / delta); without it such an env is an error.
+
+    The whole recording is replayed and checked; what is returned is the episode, which
+    ends at the first step with ``terminated`` or ``truncated`` (``report.replayed_steps``
+    vs ``report.episode_steps``). ``episode_only=False`` returns every replayed step
+    instead, steps after the episode's end included (what a conversion of the lightweight
+    demo to another rate or mode keeps).
     """
     own_env = env is None
     if own_env:
@@ -226,7 +233,7 @@ def replay(
         raise ValueError("action_mode differs from the env's action mode")
     try:
         check_env_for_demo(demo, env, convert=convert or action_mode is not None)
-        return _replay_in_env(demo, env.unwrapped, verify, tolerance, video, video_fps)
+        return _replay_in_env(demo, env.unwrapped, verify, tolerance, video, video_fps, episode_only)
     finally:
         if own_env:
             env.close()
@@ -240,7 +247,9 @@ def _same_mode(demo: Demo, env) -> bool:
     return normalise_action_mode(demo.metadata.action_mode) == normalise_action_mode(env.unwrapped.action_mode)
 
 
-def _replay_in_env(demo: Demo, env, verify: bool, tolerance: float | None, video, video_fps) -> ReplayedDemo:
+def _replay_in_env(
+    demo: Demo, env, verify: bool, tolerance: float | None, video, video_fps, episode_only: bool = True
+) -> ReplayedDemo:
     meta = demo.metadata
     model, data = env.model, env.data
     _warn_versions(demo, env)
@@ -369,20 +378,33 @@ def _replay_in_env(demo: Demo, env, verify: bool, tolerance: float | None, video
                                   None, end_tol)  # fmt: skip
             if size > report.max_divergence:
                 report.max_divergence, report.max_divergence_step = size, steps
-    report.final_success = bool(success[-1]) if steps else False
     if verify and meta.success and report.first_success_step is None:
         raise DemoReplayError(
             f"demo {demo.uuid} is marked successful, but its replay at {env.control_frequency:g} Hz never reaches "
             f"success (max divergence {report.max_divergence:.3g} over {report.checkpoints_checked} checkpoints)"
             + _mismatch_hint(demo, env),
         )
-    stacked = {key: np.stack(values) for key, values in observations.items()}
+    # One episode semantics everywhere: the episode ends at its first terminal step (success,
+    # failure or time limit). The recording may go on past it (expert demos keep ~1 s, so
+    # that replays at lower rates still reach success); those steps were replayed and
+    # checked above, but they are not part of the MDP, so they are not returned.
+    ends = np.flatnonzero(terminated | truncated)
+    episode = int(ends[0]) + 1 if ends.size else steps
+    report.replayed_steps, report.episode_steps = steps, episode
+    if not episode_only:
+        episode = steps
+    report.final_success = bool(success[episode - 1]) if episode else False
+    actions, rewards, terminated, truncated, success = (
+        a[:episode] for a in (actions, rewards, terminated, truncated, success)
+    )
+    states = states[: episode + 1]
+    stacked = {key: np.stack(values[: episode + 1]) for key, values in observations.items()}
     metadata = meta.replace(
         frequency=float(env.control_frequency),
         observation_config=env.observation_config.to_dict(),
         action_mode=env.action_mode.to_dict(),
         action_names=list(env.action_layout.names),
-        num_steps=steps,
+        num_steps=episode,
         model_fingerprint=_fingerprint(model),
         bigym_version=bigym.__version__,
         mujoco_version=mujoco.__version__,

@@ -208,6 +208,7 @@ class ReplayCache:
         substeps = max(1, round(500.0 / float(frequency)))
         payload = [
             FORMAT_VERSION,
+            "episode-ends-at-first-terminal-step",  # replays cached before that rule are not served
             demo_sha256,
             observation_config,
             substeps,

@@ -96,7 +96,7 @@ class DishwasherItemsTask(KitchenTask):
 
     # ------------------------------------------------------------------ reset
     def _setup(self) -> None:
-        self.target_mask = np.zeros(self.model.ngeom, dtype=bool)
+        self.target_mask = None  # each task sets its own in _setup
         self._item_masks = [self.mask(item) for item in self.items]
         self._scratch = mujoco.MjData(self.model)
         qpos: list[int] = []

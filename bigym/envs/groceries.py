@@ -124,10 +124,7 @@ class _GroceriesTask(KitchenTask):
     def _setup(self) -> None:
         self.pool = tuple(name for name, _ in POOL)
         self.item_masks = {name: self.mask(name) for name in self.pool}
-        target = np.zeros(self.model.ngeom, dtype=bool)
-        for prop, part in self.targets:
-            target |= self.mask(prop, part)
-        self.target_mask = target
+        self.target_mask = self.union(*(self.mask(prop, part) for prop, part in self.targets))
         self.radii = {name: footprint_radius(self.model, self.props[name]) for name in self.pool}
         self.park = {name: self._park_spot(name) for name in self.pool}
         self.weld_ids = {name: self.model.equality(f"{name}_parked").id for name in self.pool}

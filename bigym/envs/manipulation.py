@@ -124,7 +124,7 @@ class StackBlocks(TableTopTask):
         self._block_masks = [self.mask(name) for name in self.BLOCKS]
         self._block_ids = np.array([self.props[name].root_body_id for name in self.BLOCKS])
         self._min_rise = 0.5 * min(self.props[name].size for name in self.BLOCKS)
-        self._any_block_mask = np.logical_or.reduce(self._block_masks)
+        self._any_block_mask = self.union(*self._block_masks)
 
     def _on_reset(self) -> None:
         rng = self.np_random
@@ -137,12 +137,15 @@ class StackBlocks(TableTopTask):
         self.props["target_pad"].set_pose(self.data, (pad_xy[0], pad_xy[1], TABLE_TOP))
 
     def _success(self) -> bool:
-        if self.touching(self._any_block_mask, self.gripper_mask):
+        # Necessary and cheap first: no block held, and some block on the pad.
+        if self.touching(self._any_block_mask, self.gripper_mask) or not self.touching(
+            self._any_block_mask, self._pad_mask
+        ):
             return False
-        heights = self.data.xpos[self._block_ids, 2]
-        order = np.argsort(heights)
+        heights = self.data.xpos[self._block_ids, 2].tolist()
+        order = sorted(range(len(heights)), key=heights.__getitem__)  # stable, as np.argsort on 3 values
         # each block sits on the one below (not beside it)
-        if np.any(np.diff(heights[order]) < self._min_rise):
+        if any(heights[upper] - heights[lower] < self._min_rise for lower, upper in zip(order, order[1:])):
             return False
         low, mid, top = (self._block_masks[i] for i in order)
         return bool(self.touching(low, self._pad_mask) and self.touching(mid, low) and self.touching(top, mid))

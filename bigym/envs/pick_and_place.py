@@ -80,10 +80,7 @@ class _PickPlaceTask(KitchenTask):
     doors: ClassVar[tuple[tuple[str, tuple[str, ...]], ...]] = ()
 
     def _setup(self) -> None:
-        target = np.zeros(self.model.ngeom, dtype=bool)
-        for prop, part in self.targets:
-            target |= self.mask(prop, part)
-        self.target_mask = target
+        self.target_mask = self.union(*(self.mask(prop, part) for prop, part in self.targets))
         self._object_masks = [self.mask(name) for name in self.objects]
 
     def _on_reset(self) -> None:

@@ -24,7 +24,9 @@ import mujoco
 import numpy as np
 
 from bigym.env import BiGymEnv
-from bigym.props.base import ArticulatedProp, Prop, geom_mask, geoms_in_contact
+from bigym.contacts import GeomSet
+from bigym.props.base import ArticulatedProp, Prop
+from bigym.scenes import make_scene
 
 POSE_NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz")
 
@@ -32,6 +34,7 @@ POSE_NAMES = ("x", "y", "z", "qw", "qx", "qy", "qz")
 class KitchenTask(BiGymEnv):
     """A BiGym task in a kitchen scene."""
 
+    scene_name: ClassVar[str | None] = None  # a kitchen layout from bigym.scenes, or none
     # Props whose contact with the floor ends the episode as a failure.
     fail_on_floor: ClassVar[tuple[str, ...]] = ()
 
@@ -45,6 +48,9 @@ class KitchenTask(BiGymEnv):
 
     # ------------------------------------------------------------------ building
     def _build_scene(self, spec: mujoco.MjSpec) -> None:
+        self.scene = make_scene(self.scene_name) if self.scene_name is not None else None
+        if self.scene is not None:
+            self.props = self.scene.populate(spec)
         self.task_props = self._task_props()
         for name, prop in self.task_props.items():
             if name in self.props:
@@ -53,11 +59,13 @@ class KitchenTask(BiGymEnv):
             self.props[name] = prop
 
     def _bind(self, model: mujoco.MjModel, data: mujoco.MjData) -> None:
+        if self.scene is not None:
+            self.scene.bind(model, data)
         for prop in self.task_props.values():
             prop.bind(model, data)
-        self._mask_cache: dict[tuple[str, ...], np.ndarray] = {}
-        self.floor_mask = geom_mask(model, [model.geom("floor").id])
-        self.gripper_mask = geom_mask(model, self.robot.gripper_geom_ids)
+        self._mask_cache: dict[tuple[str, ...], GeomSet] = {}
+        self.floor_mask = self.contacts.geom_set([model.geom("floor").id])
+        self.gripper_mask = self.contacts.geom_set(self.robot.gripper_geom_ids)
         self._free_props = {name: p for name, p in self.props.items() if p.free}
         self._articulated = {
             name: p for name, p in self.props.items() if isinstance(p, ArticulatedProp) and p.joint_keys
@@ -65,29 +73,37 @@ class KitchenTask(BiGymEnv):
         self._floor_fail_masks = [self.mask(name) for name in self.fail_on_floor]
         # One contact query for all of them: "some prop touches the floor" is "the union of
         # their geoms touches the floor".
-        self._floor_fail_mask = np.logical_or.reduce(self._floor_fail_masks) if self._floor_fail_masks else None
-        self._joint_indices: dict[tuple[str, tuple[str, ...]], tuple[int, ...]] = {}
-        self._upright_constants: dict[tuple, tuple[np.ndarray, np.ndarray, float]] = {}
+        self._floor_fail_mask = self.union(*self._floor_fail_masks) if self._floor_fail_masks else None
+        self._joint_indices: dict[tuple[str, tuple[str, ...] | None], tuple[np.ndarray, tuple]] = {}
+        self._qpos = data.qpos  # views for the env's life: MjData never reallocates them
+        self._xmat = data.xmat
+        self._upright_constants: dict[tuple, tuple[tuple[tuple[int, float], ...], float]] = {}
         self._setup()
 
     # ------------------------------------------------------------------ conditions
-    def mask(self, prop: str, *parts: str) -> np.ndarray:
-        """Boolean geom mask of a prop's collision geoms (or of some of its parts)."""
+    def mask(self, prop: str, *parts: str) -> GeomSet:
+        """The geom set of a prop's collision geoms (or of some of its parts); built once."""
         key = (prop, *parts)
         mask = self._mask_cache.get(key)
         if mask is None:
             p = self.props[prop]
             ids = p.part_geom_ids(*parts) if parts else p.collision_geom_ids
-            mask = self._mask_cache[key] = geom_mask(self.model, ids)
+            mask = self._mask_cache[key] = self.contacts.geom_set(ids)
         return mask
 
-    def touching(self, mask_a: np.ndarray, mask_b: np.ndarray) -> bool:
-        """Some active contact joins a geom of ``mask_a`` and a geom of ``mask_b``."""
-        return geoms_in_contact(self.data, mask_a, mask_b)
+    def union(self, *sets: GeomSet) -> GeomSet:
+        """One geom set holding every geom of ``sets`` (build it once, in ``_setup``)."""
+        ids = sorted({int(i) for s in sets for i in s.ids})
+        return self.contacts.geom_set(ids)
+
+    def touching(self, mask_a: GeomSet | np.ndarray, mask_b: GeomSet | np.ndarray) -> bool:
+        """Some touching contact joins a geom of ``mask_a`` and a geom of ``mask_b`` (geom
+        sets, or boolean masks over all geoms: slower, for one-off questions)."""
+        return self.contacts.touching(mask_a, mask_b)
 
     def held(self, prop: str) -> bool:
         """A gripper touches the prop: not yet released."""
-        return geoms_in_contact(self.data, self.mask(prop), self.gripper_mask)
+        return self.contacts.touching(self.mask(prop), self.gripper_mask)
 
     def upright(
         self,
@@ -105,32 +121,45 @@ class KitchenTask(BiGymEnv):
         except TypeError:  # axes given as lists or arrays: nothing to cache them by
             key, constants = None, None
         if constants is None:  # built once per distinct call, not per step
-            constants = (
-                np.asarray(local_axis, float),
-                np.asarray(world_axis, float),
-                float(np.cos(np.deg2rad(max_angle_deg))),
-            )
+            # cosine = world . (R local) = sum_ij world_i R_ij local_j: the nonzero terms of
+            # the outer product, as (index into the row-major xmat, coefficient) pairs.
+            outer = np.outer(np.asarray(world_axis, float), np.asarray(local_axis, float)).ravel()
+            terms = tuple((int(i), float(outer[i])) for i in np.flatnonzero(outer))
+            constants = (terms, float(np.cos(np.deg2rad(max_angle_deg))))
             if key is not None:
                 self._upright_constants[key] = constants
-        local, world, min_cosine = constants
-        rotation = self.data.xmat[self.props[prop].root_body_id].reshape(3, 3)
-        cosine = float((rotation @ local) @ world)
+        terms, min_cosine = constants
+        rotation = self._xmat[self.props[prop].root_body_id].tolist()
+        cosine = 0.0
+        for index, coefficient in terms:
+            cosine += coefficient * rotation[index]
         if either_sign:
             cosine = abs(cosine)
         return cosine >= min_cosine
 
     def joints_near(self, prop: str, target: float, tolerance: float, keys: tuple[str, ...] | None = None) -> bool:
-        """Every (or every listed) normalised joint of ``prop`` is within ``tolerance`` of ``target``."""
-        articulated = self.props[prop]
-        # Python floats: a few comparisons without numpy's per-call overhead; NaN is never near.
-        state = articulated.get_state(self.data).tolist()
-        if keys is not None:
-            key = (prop, tuple(keys))
-            indices = self._joint_indices.get(key)
-            if indices is None:  # joint names resolved once, not per step
-                indices = self._joint_indices[key] = tuple(articulated.joint_index(k) for k in keys)
-            state = [state[i] for i in indices]
-        return all(abs(value - target) <= tolerance for value in state)
+        """Every (or every listed) normalised joint of ``prop`` is within ``tolerance`` of ``target``.
+
+        The same arithmetic as ``ArticulatedProp.get_state`` (``clip((q - lo) / span, 0, 1)``),
+        on Python floats and only for the joints asked about: one gather per call.
+        """
+        key = (prop, keys if keys is None or type(keys) is tuple else tuple(keys))
+        joints = self._joint_indices.get(key)
+        if joints is None:  # joint names, addresses and ranges resolved once, not per step
+            articulated = self.props[prop]
+            indices = range(len(articulated.joint_keys)) if keys is None else [articulated.joint_index(k) for k in keys]
+            indices = list(indices)
+            joints = self._joint_indices[key] = (
+                articulated._jq[indices].copy(),
+                tuple(zip(articulated._lo[indices].tolist(), articulated._span[indices].tolist())),
+            )
+        addresses, ranges = joints
+        for value, (low, span) in zip(self._qpos.take(addresses).tolist(), ranges):
+            state = (value - low) / span
+            state = 0.0 if state < 0.0 else 1.0 if state > 1.0 else state  # NaN stays NaN: never near
+            if not abs(state - target) <= tolerance:
+                return False
+        return True
 
     def _failure(self) -> bool:
         if super()._failure():

@@ -24,6 +24,7 @@ from pathlib import Path
 import numpy as np
 
 from bigym.experts.motion import HumanStyle
+from bigym.experts.numerics import numerics_pinned, pinned_environment
 
 CONTROL_FREQUENCY = 500.0  # the recording rate of the benchmark's demos
 #: down-sampled rates every kept demo must also replay at (checkpoints within tolerance,
@@ -156,7 +157,9 @@ def record_attempt(
     the recording rate (bit-exact) and at each of ``VERIFY_RATES`` (within tolerance).
 
     ``date``: the date written into the demo (default now); with a fixed date the demo's
-    bytes depend only on the task, seed, style and versions.
+    bytes depend only on the task, seed, style and versions, and on this process's numpy
+    kernels: :func:`generate_demos` runs it in workers with pinned kernels, so that its
+    files are the same on every machine.
     """
     from bigym.demonstrations import Demo, DemoError, DemoRecorder, replay
     from bigym.experts import make_expert
@@ -227,7 +230,9 @@ def generate_demos(
 
     ``out_dir``: write each kept demo as ``<uuid>.safetensors``; ``store``: also add them
     to this :class:`bigym.demonstrations.DemoStore`. ``workers``: processes (default: the
-    CPU count, at most 8); 1 runs in this process. ``max_attempts``: give up after this
+    CPU count, at most 8); attempts run in spawned worker processes whose numpy and OpenBLAS
+    kernels are pinned (:mod:`bigym.experts.numerics`), so the files are the same on every
+    machine; 1 worker runs in this process if it is already pinned. ``max_attempts``: give up after this
     many episodes (default ``3 n + 5``). ``date``: written into every demo (default: now;
     fix it to make the files reproducible).
     """
@@ -246,7 +251,9 @@ def generate_demos(
             yield (task, index, seed + index, style_dict, verify, date)
 
     with _Progress(progress, f"{task}: generating", n) as advance:
-        if workers == 1:
+        # In this process only if numpy here already runs on pinned kernels; otherwise in
+        # workers started with them, so the files have the same bytes on every machine.
+        if workers == 1 and numerics_pinned():
             for job in jobs():
                 attempt = _job(job)
                 attempts.append(attempt)
@@ -256,8 +263,8 @@ def generate_demos(
                 if len(kept) >= n:
                     break
         else:
-            context = multiprocessing.get_context("spawn")  # fork is unsafe with GL contexts
-            with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+            context = multiprocessing.get_context("spawn")  # spawn: numpy loads again, with the pinned kernels
+            with pinned_environment(), ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
                 queue = jobs()
                 running: dict = {}
 

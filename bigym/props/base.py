@@ -10,7 +10,7 @@ Conventions
   ``"<name>/root"``, a free prop's joint ``"<name>/freejoint"``.
 * Geom groups: ``0`` geoms both render and collide, ``2`` geoms only render
   (contype = conaffinity = 0, no mass), ``3`` geoms only collide (hidden by default),
-  ``5`` invisible ballast (mass only). In an env, :mod:`bigym.props.visual_merge` then
+  ``5`` invisible ballast (mass only). In an env, :mod:`bigym.visual_merge` then
   draws each body's visible geoms of one colour as one group-2 mesh: group-0 geoms move to
   group 3 and group-2 ones to the hidden group ``4``.
 * Every colliding geom belongs to a named *part* ("counter", "shelf", "hob",
@@ -33,6 +33,8 @@ from typing import Any, ClassVar
 
 import mujoco
 import numpy as np
+
+from bigym.geom_groups import GROUP_BALLAST, GROUP_BOTH, GROUP_COLLISION, GROUP_VISUAL
 
 __all__ = [
     "ArticulatedProp",
@@ -58,10 +60,6 @@ SOLREF = (0.008, 1.0)
 #: holders) about tenfold, to ~3 um/s.
 SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
 
-GROUP_BOTH = 0
-GROUP_VISUAL = 2
-GROUP_COLLISION = 3
-GROUP_BALLAST = 5
 
 _G = mujoco.mjtGeom
 

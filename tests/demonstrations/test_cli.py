@@ -7,7 +7,7 @@ import json
 import pytest
 from typer.testing import CliRunner
 
-import bigym.demonstrations.cli as demos_cli
+import bigym.cli.demos as demos_cli
 from bigym.cli import app
 from bigym.demonstrations import Demo
 

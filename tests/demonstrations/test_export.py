@@ -123,3 +123,29 @@ def test_robomimic_hdf5(replayed, tmp_path):
             np.testing.assert_array_equal(group["obs/rgb_head"][0], demo.observations["rgb_head"][0].transpose(1, 2, 0))
             np.testing.assert_array_equal(group["next_obs/proprioception"][:], demo.observations["proprioception"][1:])
         assert [name.decode() for name in f["mask/train"][:]] == ["demo_0", "demo_1"]
+
+
+def test_exported_episodes_end_at_their_first_terminal_step(replayed, tmp_path):
+    """The expert recordings run past their first success; no export holds those steps, and
+    every exported episode is done on its last frame only, the one that succeeded."""
+    for demo in replayed:
+        assert demo.report.episode_steps < demo.report.replayed_steps, "premise: the recording has a tail"
+    root = export_lerobot(replayed, tmp_path / "dataset")
+    data = pq.read_table(root / "data" / "chunk-000" / "file-000.parquet")
+    episode_index = np.array(data.column("episode_index").to_pylist())
+    done = np.array(data.column("next.done").to_pylist()).ravel()
+    success = np.array(data.column("next.success").to_pylist()).ravel()
+    reward = np.array(data.column("next.reward").to_pylist()).ravel()
+    for k, demo in enumerate(replayed):
+        rows = episode_index == k
+        assert rows.sum() == demo.report.episode_steps
+        assert np.flatnonzero(done[rows]).tolist() == [demo.report.episode_steps - 1]
+        assert success[rows][-1] and reward[rows][-1] == 1.0 and not success[rows][:-1].any()
+    path = export_robomimic(replayed, tmp_path / "demos.hdf5")
+    with h5py.File(path) as f:
+        for k, demo in enumerate(replayed):
+            group = f[f"data/demo_{k}"]
+            dones = group["dones"][()]
+            assert len(dones) == group.attrs["num_samples"] == demo.report.episode_steps
+            assert np.flatnonzero(dones).tolist() == [len(dones) - 1]
+            assert group["rewards"][-1] == 1.0 and group["rewards"][:-1].sum() == 0.0

@@ -57,9 +57,15 @@ def test_random_episode_round_trip_is_bit_identical(tmp_path, absolute, frequenc
     replayed = replay(loaded, config)
     assert replayed.report.exact
     assert replayed.report.checkpoints_checked == len(demo.checkpoint_steps) > 1
-    expected = {key: np.stack([obs[key] for obs in recorded]) for key in recorded[0]}
+    # The episode ends at its first terminal step; the recording went on past it (the
+    # recorder was told to), and the replay checked those steps but returns the episode only.
+    episode = len(replayed)
+    assert replayed.report.replayed_steps == 120 and replayed.report.episode_steps == episode
+    ends = np.flatnonzero(replayed.terminated | replayed.truncated)
+    assert episode == 120 and ends.size == 0 or ends.tolist() == [episode - 1]
+    expected = {key: np.stack([obs[key] for obs in recorded[: episode + 1]]) for key in recorded[0]}
     assert same_observations(replayed.observations, expected)
-    np.testing.assert_array_equal(replayed.actions, demo.actions)
+    np.testing.assert_array_equal(replayed.actions, demo.actions[:episode])
 
     # The replayed demo survives its own file format too.
     again = ReplayedDemo.load(replayed.save(tmp_path / "replayed.safetensors"))

@@ -48,19 +48,27 @@ def test_downsampled_replay_still_succeeds(expert_demos, name, frequency):
     assert not report.exact and report.frequency == frequency
     assert report.first_success_step is not None, "the down-sampled replay never reached success"
     assert report.checkpoints_checked >= 1
-    assert len(result) == -(-len(demo) // (500 // frequency))
+    # The whole recording is replayed and checked; the episode returned ends at its first
+    # terminal step (the recording goes on past the first success).
+    assert report.replayed_steps == -(-len(demo) // (500 // frequency))
+    assert len(result) == report.episode_steps < report.replayed_steps
+    assert np.flatnonzero(result.terminated | result.truncated).tolist() == [len(result) - 1]
+    assert result.success[-1] and report.final_success
     # Joint positions stay within the tolerance at every aligned checkpoint, and the end state
     # matches the recording's within the tolerance plus what the robot can move in the "hold"
     # steps that pad the last window (checked by the replay itself, and here).
-    pad = len(result) * (500 // frequency) - len(demo)
+    pad = report.replayed_steps * (500 // frequency) - len(demo)
     slack = default_tolerance(frequency) + TOLERANCE_SPEED * pad / 500
     assert report.max_divergence <= slack
+    whole = replay(demo, frequency=frequency, episode_only=False)
+    assert len(whole) == report.replayed_steps
+    np.testing.assert_array_equal(whole.states[: len(result) + 1], result.states)
     aligned = [k for k in range(len(demo.checkpoint_steps)) if demo.checkpoint_steps[k] % (500 // frequency) == 0]
     for k in aligned:
-        replayed = _qpos(demo, result.states[demo.checkpoint_steps[k] // (500 // frequency)])
+        replayed = _qpos(demo, whole.states[demo.checkpoint_steps[k] // (500 // frequency)])
         np.testing.assert_allclose(replayed, _qpos(demo, demo.checkpoint_states[k]), atol=default_tolerance(frequency))
     final = _qpos(demo, demo.checkpoint_states[-1])
-    np.testing.assert_allclose(_qpos(demo, result.states[-1]), final, atol=slack)
+    np.testing.assert_allclose(_qpos(demo, whole.states[-1]), final, atol=slack)
 
 
 def test_native_rate_replay_checks_every_checkpoint_bit_for_bit(expert_demos):
@@ -69,7 +77,10 @@ def test_native_rate_replay_checks_every_checkpoint_bit_for_bit(expert_demos):
     assert result.report.exact and result.report.tolerance == 0.0
     assert result.report.checkpoints_checked == len(demo.checkpoint_steps)
     assert result.report.max_divergence == 0.0
-    np.testing.assert_array_equal(result.states[demo.checkpoint_steps], demo.checkpoint_states)
+    whole = replay(demo, episode_only=False)
+    np.testing.assert_array_equal(whole.states[demo.checkpoint_steps], demo.checkpoint_states)
+    inside = demo.checkpoint_steps <= len(result)  # the checkpoints within the returned episode
+    np.testing.assert_array_equal(result.states[demo.checkpoint_steps[inside]], demo.checkpoint_states[inside])
 
 
 def test_divergence_reports_first_step_and_size(expert_demos):
@@ -281,14 +292,15 @@ def test_replay_writes_a_video(expert_demos, tmp_path):
     reader = imageio.get_reader(video)
     frames = reader.count_frames()
     reader.close()
-    # 50 Hz -> every second step at 25 fps, plus the reset frame.
-    assert frames == len(result) // 2 + 1
+    # 50 Hz -> every second step at 25 fps, plus the reset frame; the video shows the whole
+    # recording, the steps after the episode's end included.
+    assert frames == result.report.replayed_steps // 2 + 1
 
 
 def test_replay_states_match_mujoco_state_size(expert_demos):
     demo = expert_demos["single_absolute"]
     env = ReachTargetSingle()
-    result = replay(demo)
+    result = replay(demo, episode_only=False)
     assert result.states.shape == (len(demo) + 1, mujoco.mj_stateSize(env.model, demo.metadata.checkpoint_spec))
     env.close()
 

@@ -12,7 +12,7 @@ import sys
 import pytest
 from typer.testing import CliRunner
 
-import bigym.demonstrations.cli as demos_cli
+import bigym.cli.demos as demos_cli
 from bigym.cli import app
 from bigym.demonstrations import Demo, DemoStore
 from bigym.experts.dataset import (
@@ -114,6 +114,17 @@ def test_shipped_manifest_lists_fifty_demos_of_each_task():
     assert per_task == {task: DEMOS_PER_TASK for task in DATASET_TASKS}
 
 
+@pytest.mark.parametrize("task", DATASET_TASKS)
+def test_the_first_demo_of_every_shipped_task_regenerates_byte_for_byte(tmp_path, task):
+    """Every task of the shipped dataset, not one: its first demo, regenerated here, has the
+    shipped name, size and sha256 (the expert, the task, the physics and the file format
+    are all unchanged)."""
+    build_dataset(tmp_path / "store", (task,), workers=1, progress=False, per_task=1)
+    check = check_dataset(tmp_path / "store", (task,))
+    assert check.different == [] and check.extra == [], check.summary()
+    assert len(check.matching) == 1 and len(check.missing) == DEMOS_PER_TASK - 1, check.summary()
+
+
 def test_a_rebuilt_task_matches_the_shipped_manifest_file_for_file(tmp_path):
     """The first demos of a task, regenerated here, have the shipped names and checksums."""
     build_dataset(tmp_path / "store", ("ReachTargetDual",), workers=1, progress=False, per_task=3)
@@ -147,3 +158,20 @@ def test_dataset_check_command_exits_1_on_a_copy_that_differs(tmp_path):
     build_dataset(store.url, ("ReachTargetDual",), workers=1, progress=False, per_task=1)
     result = run("dataset", "check", store.url, "--task", "ReachTargetDual")
     assert result.exit_code == 1 and f"1 of {DEMOS_PER_TASK} demo files identical" in result.output
+
+
+def test_generation_workers_run_on_pinned_numpy_kernels():
+    """Spawned under pinned_environment, a worker's numpy uses its baseline kernels only
+    (what makes the dataset's bytes machine-independent); the parent's settings come back."""
+    import multiprocessing
+
+    from bigym.experts.numerics import numerics_pinned, pinned_environment, pinned_settings
+
+    before = {name: os.environ.get(name) for name in pinned_settings()}
+    with pinned_environment():
+        with multiprocessing.get_context("spawn").Pool(1) as pool:
+            assert pool.apply(numerics_pinned) is True
+    assert {name: os.environ.get(name) for name in pinned_settings()} == before
+    # Without the settings a worker gets the machine's dispatch (unless this CPU has none).
+    with multiprocessing.get_context("spawn").Pool(1) as pool:
+        assert pool.apply(numerics_pinned) is numerics_pinned()

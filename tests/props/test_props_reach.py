@@ -28,9 +28,9 @@ from bigym.scenes import Scene, make_scene, scene_names
 os.environ.setdefault(
     "MENAGERIE_ROOT", os.path.join(os.path.dirname(__file__), "..", "..", "..", "shared", "menagerie")
 )
-h1 = pytest.importorskip("bigym.robot.h1")
-robot_mod = pytest.importorskip("bigym.robot.robot")
-world_mod = pytest.importorskip("bigym.world")
+import bigym.robot.h1 as h1  # noqa: E402
+import bigym.robot.robot as robot_mod  # noqa: E402
+import bigym.world as world_mod  # noqa: E402
 
 PRESETS = [n for n in scene_names() if n != "kitchen_full"]
 TOLERANCE = 0.02  # m, pinch point to target

@@ -1,4 +1,4 @@
-"""The build-time visual merge (bigym.props.visual_merge): fewer draw calls, the same
+"""The build-time visual merge (bigym.visual_merge): fewer draw calls, the same
 physics bit for bit, the same pictures, the prop APIs untouched."""
 
 from __future__ import annotations
@@ -12,10 +12,11 @@ import bigym.env
 from bigym.demonstrations import model_fingerprint
 from bigym.env import BiGymEnv
 from bigym.envs.dishwasher_plates import DishwasherLoadPlates
+from bigym.envs.task import KitchenTask
 from bigym.observations import CameraConfig, ObservationConfig
 from bigym.props import PROP_CLASSES, ArticulatedProp
 from bigym.props.base import GROUP_BOTH, GROUP_COLLISION, GROUP_VISUAL, lathe_mesh
-from bigym.props.visual_merge import (
+from bigym.visual_merge import (
     GROUP_MERGED,
     _box_template,
     _cylinder_template,
@@ -25,7 +26,7 @@ from bigym.props.visual_merge import (
 )
 from bigym.scenes import make_scene, scene_names
 
-KitchenFull = type("KitchenFull", (BiGymEnv,), {"scene_name": "kitchen_full"})
+KitchenFull = type("KitchenFull", (KitchenTask,), {"scene_name": "kitchen_full"})
 # Physics fields of colliding geoms: all must be identical with and without the merge.
 COLLIDER_FIELDS = (
     "geom_type", "geom_size", "geom_pos", "geom_quat", "geom_contype", "geom_conaffinity", "geom_condim",

@@ -9,7 +9,7 @@ import pytest
 from bigym.cli import task_class
 from bigym.observations import ObservationConfig
 
-from testkit import ALL_TASKS
+from testkit import ALL_TASKS, task_state
 
 STATE = mujoco.mjtState.mjSTATE_INTEGRATION
 
@@ -31,9 +31,26 @@ def env(request):
 def test_reset_is_deterministic_per_seed_and_varies_across_seeds(env):
     first = _reset_state(env, 7)
     again = _reset_state(env, 7)
-    other = _reset_state(env, 8)
     assert np.array_equal(first, again), "same seed, different initial state"
-    assert not np.array_equal(first, other), "different seeds, same initial state"
+    # Variation must come from the task's own objects, not only from the robot's start noise.
+    scenes = []
+    for seed in (7, 7, 8, 9):
+        env.reset(seed=seed)
+        scenes.append(task_state(env))
+    assert scenes[0].size > 0, "premise: the task has objects or targets"
+    assert np.array_equal(scenes[0], scenes[1]), "same seed, different task objects"
+    assert not np.array_equal(scenes[0], scenes[2]) and not np.array_equal(scenes[2], scenes[3]), (
+        "different seeds place the task's objects the same way"
+    )
+
+
+def test_task_state_ignores_the_robot(env):
+    """The check above must not pass on the robot's start noise alone."""
+    env.reset(seed=7)
+    before = task_state(env)
+    env.unwrapped.robot.reset(env.model, env.data, np.array([0.3, -0.2]), 0.4)
+    mujoco.mj_forward(env.model, env.data)
+    np.testing.assert_array_equal(task_state(env), before)
 
 
 def test_detector_is_false_at_reset(env):

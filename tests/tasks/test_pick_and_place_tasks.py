@@ -115,7 +115,7 @@ def test_reset_touches_only_the_start_support(env):
             support = env.floor_mask if start_support is None else env.mask(*start_support)
             assert env.touching(obj, support), (seed, name)
             assert not env.touching(obj, env.target_mask) and not env.held(name)
-            others = ~(obj | support)
+            others = ~(obj.mask | support.mask)  # every geom but these (a one-off boolean mask)
             assert not env.touching(obj, others), f"seed {seed}: {name} touches something besides its support"
 
 
@@ -248,10 +248,34 @@ def test_spawn_ranges():
             e.close()
 
 
-def test_lying_box_quat_helper_matches_reference():
-    """Ry(90 deg) * Rx(a) of the reference equals quat_euler(roll=a, pitch=90 deg)."""
-    from bigym.props.base import quat_euler, quat_mul
+def test_quat_euler_matches_rotation_matrices():
+    """quat_euler(roll, pitch, yaw) is Rz(yaw) @ Ry(pitch) @ Rx(roll), checked against matrices
+    written out from cos and sin (not against the quaternion helpers it is built from)."""
+    import mujoco
 
-    for a in (-2.0, 0.4, 3.0):
-        ref = quat_mul(quat_axis_angle((0, 1, 0), np.pi / 2), quat_axis_angle((1, 0, 0), a))
-        assert np.allclose(quat_euler(roll=a, pitch=np.pi / 2), ref)
+    from bigym.props.base import quat_euler
+
+    def rx(a):
+        c, s = np.cos(a), np.sin(a)
+        return np.array([[1, 0, 0], [0, c, -s], [0, s, c]])
+
+    def ry(a):
+        c, s = np.cos(a), np.sin(a)
+        return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]])
+
+    def rz(a):
+        c, s = np.cos(a), np.sin(a)
+        return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]])
+
+    rng = np.random.default_rng(0)
+    cases = [(a, np.pi / 2, 0.0) for a in (-2.0, 0.4, 3.0)] + [tuple(rng.uniform(-np.pi, np.pi, 3)) for _ in range(20)]
+    for roll, pitch, yaw in cases:
+        quat = quat_euler(roll=roll, pitch=pitch, yaw=yaw)
+        assert np.linalg.norm(quat) == pytest.approx(1.0)
+        matrix = np.zeros(9)
+        mujoco.mju_quat2Mat(matrix, quat)
+        np.testing.assert_allclose(matrix.reshape(3, 3), rz(yaw) @ ry(pitch) @ rx(roll), atol=1e-12)
+    # The order matters: roll then pitch is not pitch then roll.
+    matrix = np.zeros(9)
+    mujoco.mju_quat2Mat(matrix, quat_euler(roll=0.5, pitch=0.7))
+    assert not np.allclose(matrix.reshape(3, 3), rx(0.5) @ ry(0.7))

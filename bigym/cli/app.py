@@ -174,7 +174,7 @@ def props_gallery(out_dir: Annotated[Path, typer.Argument(help="Folder for the P
     console.print(f"wrote {len(paths)} images to {out_dir}")
 
 
-from bigym.demonstrations.cli import demos_app  # noqa: E402
+from bigym.cli.demos import demos_app  # noqa: E402
 
 app.add_typer(demos_app, name="demos")
 

@@ -30,13 +30,11 @@ from dataclasses import dataclass, field
 import mujoco
 import numpy as np
 
-from bigym.props.base import GROUP_BOTH, GROUP_COLLISION, GROUP_VISUAL
+from bigym.geom_groups import GROUP_BOTH, GROUP_COLLISION, GROUP_MERGED, GROUP_VISUAL
 
 __all__ = ["GROUP_MERGED", "MergeReport", "merge_visual_geoms"]
 
 _G = mujoco.mjtGeom
-#: hidden group of the visual-only geoms now drawn through a merged mesh
-GROUP_MERGED = 4
 #: box sides longer than this are split into up to ``vis.quality.numquads`` quads (metres)
 BOX_QUAD_SIZE = 0.15
 
