@@ -30,15 +30,20 @@ from bigym.cli import task_class  # noqa: E402
 from bigym.observations import ObservationConfig  # noqa: E402
 
 
-def _rate(block, seconds: float) -> float:
-    """Calls per second of ``block(n)`` measured over about ``seconds``."""
+def _batch(block, seconds: float) -> int:
+    """How many calls of ``block`` take about ``seconds``."""
     n, elapsed = 1, 0.0
     while elapsed < 0.05:  # find a batch size that takes a measurable time
         start = time.perf_counter()
         block(n)
         elapsed = time.perf_counter() - start
         n *= 2
-    n = max(1, int(n / 2 * seconds / max(elapsed, 1e-9)))
+    return max(1, int(n / 2 * seconds / max(elapsed, 1e-9)))
+
+
+def _rate(block, seconds: float, n: int | None = None) -> float:
+    """Calls per second of ``block(n)`` measured over about ``seconds`` (or ``n`` calls)."""
+    n = n or _batch(block, seconds)
     start = time.perf_counter()
     block(n)
     return n / (time.perf_counter() - start)
@@ -63,9 +68,10 @@ def measure_env(cls, control_frequency: float, observation_config: ObservationCo
     # Short blocks, interleaved, and the median of each adjacent pair's ratio: machine load
     # that drifts over seconds hits both sides of a pair alike.
     env_rates, raw_rates, ratios = [], [], []
+    env_n, raw_n = _batch(env_block, seconds / rounds), _batch(raw_block, seconds / rounds)
     for _ in range(rounds):
-        env_rates.append(_rate(env_block, seconds / rounds))
-        raw_rates.append(_rate(raw_block, seconds / rounds))
+        env_rates.append(_rate(env_block, seconds / rounds, env_n))
+        raw_rates.append(_rate(raw_block, seconds / rounds, raw_n))
         ratios.append(env_rates[-1] * env.substeps / raw_rates[-1])
     env.close()
     return statistics.median(env_rates), statistics.median(raw_rates), env.substeps, statistics.median(ratios)

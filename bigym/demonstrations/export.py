@@ -36,6 +36,11 @@ EPISODES_PATH = "meta/episodes/chunk-{chunk_index:03d}/file-{file_index:03d}.par
 TASKS_PATH = "meta/tasks.parquet"
 VIDEO_CODEC = "libx264"  # "h264" in LeRobot's list of codecs
 QUANTILES = (0.01, 0.10, 0.50, 0.90, 0.99)
+#: robomimic's readers divide depth images by 1 and clip them to [0, 1] (``process_frame``),
+#: which keeps only the first metre of metric depth (about half of the head camera's pixels).
+#: Its files therefore hold depth normalised over this range, in metres, written into the
+#: file: ``metres = near + value * (far - near)``; depth beyond ``far`` is stored as 1.
+ROBOMIMIC_DEPTH_RANGE = (0.0, 5.0)
 
 
 def _check_demos(demos: Sequence[ReplayedDemo]) -> None:
@@ -386,14 +391,18 @@ def export_robomimic(
     overwrite: bool = False,
     compression: str | None = "gzip",
     progress: bool = False,
+    depth_range: tuple[float, float] = ROBOMIMIC_DEPTH_RANGE,
 ) -> Path:
     """Write ``demos`` to one robomimic-style HDF5 file (atomically); return its path.
 
     ``data`` attributes: ``total`` (frames) and ``env_args`` (JSON: env_name, type, env_kwargs
-    with the bigym metadata). Each ``data/demo_<k>`` holds ``actions (T, A)``,
+    with the bigym metadata, and ``bigym``: how to rebuild the env, see
+    :func:`env_from_robomimic`). Each ``data/demo_<k>`` holds ``actions (T, A)``,
     ``obs/<key>`` and ``next_obs/<key>`` (``T`` each; images channel-last ``(T, H, W, 3)``
-    uint8, depth ``(T, H, W, 1)``), ``rewards``, ``dones``, ``states`` (MuJoCo state, spec
-    in the ``state_spec`` attribute) and the attributes ``num_samples``, ``seed``, ``uuid``.
+    uint8; depth ``(T, H, W, 1)`` float32 in [0, 1], normalised over ``depth_range`` metres
+    as robomimic's readers expect, with ``near``, ``far`` and ``encoding`` attributes),
+    ``rewards``, ``dones``, ``states`` (MuJoCo state, spec in the ``state_spec`` attribute)
+    and the attributes ``num_samples``, ``seed``, ``uuid``.
     """
     import h5py
 
@@ -403,10 +412,14 @@ def export_robomimic(
     path = Path(path)
     if path.exists() and not overwrite:
         raise DemoError(f"{path} exists; pass overwrite=True (--overwrite) to replace it")
+    near, far = (float(v) for v in depth_range)
+    if not (0.0 <= near < far):
+        raise ValueError(f"depth_range must be (near, far) with 0 <= near < far, got {depth_range}")
+    encoding = f"normalised: metres = {near:g} + value * ({far:g} - {near:g}); depth beyond {far:g} m is 1"
     first = demos[0].metadata
     env_args = {
         "env_name": first.env_id,
-        "type": 2,  # robomimic's EnvType.GYM_TYPE
+        "type": 2,  # robomimic's EnvType.GYM_TYPE: a gymnasium env, but see "bigym" below
         "env_kwargs": {
             "task": first.task,
             "task_kwargs": first.task_kwargs,
@@ -414,6 +427,12 @@ def export_robomimic(
             "observation_config": first.observation_config,
             "control_frequency": first.frequency,
             "bigym_version": bigym.__version__,
+        },
+        "bigym": {
+            "rebuild": "from bigym.demonstrations.export import env_from_robomimic; env = env_from_robomimic(path)",
+            "why": "robomimic's create_env_from_metadata builds gym (not gymnasium) envs with other kwargs",
+            "depth_range": [near, far],
+            "depth_encoding": encoding,
         },
     }
 
@@ -442,12 +461,15 @@ def export_robomimic(
                         if key.startswith("rgb_"):
                             values = values.transpose(0, 2, 3, 1)
                         elif key.startswith("depth_"):
-                            values = values[..., None]
+                            normalised = (np.asarray(values, np.float64) - near) / (far - near)
+                            values = np.clip(normalised, 0.0, 1.0).astype(np.float32)[..., None]
                         image = values.ndim >= 3
-                        obs_group.create_dataset(
+                        dataset = obs_group.create_dataset(
                             key, data=values, compression=compression if image else None,
                             chunks=(1, *values.shape[1:]) if image and compression else None,
                         )  # fmt: skip
+                        if key.startswith("depth_"):
+                            dataset.attrs.update({"near": near, "far": far, "encoding": encoding})
                 total += length
                 advance()
             data.attrs["total"] = total
@@ -456,3 +478,39 @@ def export_robomimic(
             mask.create_dataset("train", data=np.array([f"demo_{k}" for k in range(len(demos))], dtype="S"))
 
     return atomic_write(path, write)
+
+
+def env_from_robomimic(source: Path | str | dict, observation_config=None, render_mode: str | None = None):
+    """The bigym env a robomimic file (or its parsed ``env_args``) was recorded in: same task,
+    task variant, action mode, control rate and (unless given) observation config.
+
+    Why not robomimic's ``create_env_from_metadata``: it builds its envs through the old
+    ``gym`` API and passes its own keyword arguments, which a gymnasium env rejects. Reset the
+    env with a demo's ``seed`` attribute to start where that demo started.
+    """
+    import h5py
+
+    from bigym.demonstrations.metadata import Metadata
+    from bigym.demonstrations.player import make_env
+
+    if isinstance(source, dict):
+        env_args = source
+    else:
+        with h5py.File(source, "r") as f:
+            if "env_args" not in f["data"].attrs:
+                raise DemoError(f"{source} has no data.attrs['env_args']: not a robomimic file")
+            env_args = json.loads(f["data"].attrs["env_args"])
+    kwargs = env_args.get("env_kwargs") or {}
+    missing = [k for k in ("task", "action_mode", "control_frequency") if k not in kwargs]
+    if missing:
+        raise DemoError(f"env_args lack {missing}: not written by bigym's export_robomimic")
+    metadata = Metadata.from_dict(
+        {
+            "task": kwargs["task"],
+            "task_kwargs": kwargs.get("task_kwargs") or {},
+            "action_mode": kwargs["action_mode"],
+            "frequency": kwargs["control_frequency"],
+        }
+    )
+    config = observation_config if observation_config is not None else kwargs.get("observation_config")
+    return make_env(metadata, config, render_mode=render_mode)

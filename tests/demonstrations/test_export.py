@@ -149,3 +149,55 @@ def test_exported_episodes_end_at_their_first_terminal_step(replayed, tmp_path):
             assert len(dones) == group.attrs["num_samples"] == demo.report.episode_steps
             assert np.flatnonzero(dones).tolist() == [len(dones) - 1]
             assert group["rewards"][-1] == 1.0 and group["rewards"][:-1].sum() == 0.0
+
+
+def test_robomimic_depth_is_normalised_as_its_readers_expect(replayed, tmp_path):
+    """robomimic clips depth images to [0, 1]: the file holds depth over a stated range."""
+    near, far = 0.05, 0.3  # a short range, so that some pixels lie beyond it
+    path = export_robomimic(replayed, tmp_path / "depth.hdf5", depth_range=(near, far))
+    metric = replayed[0].observations["depth_left_wrist"][:-1]
+    assert (metric > far).any() and (metric < far).any(), "premise: pixels on both sides of far"
+    with h5py.File(path, "r") as f:
+        stored = f["data/demo_0/obs/depth_left_wrist"]
+        assert stored.dtype == np.float32 and stored.attrs["near"] == near and stored.attrs["far"] == far
+        assert "metres" in stored.attrs["encoding"]
+        values = stored[()][..., 0]
+        env_args = json.loads(f["data"].attrs["env_args"])
+    assert env_args["bigym"]["depth_range"] == [near, far]
+    assert values.min() >= 0.0 and values.max() <= 1.0
+    inside = metric < far
+    np.testing.assert_allclose(near + values[inside] * (far - near), metric[inside], rtol=1e-6)
+    assert np.all(values[~inside] == 1.0)
+    with pytest.raises(ValueError, match="depth_range"):
+        export_robomimic(replayed, tmp_path / "bad.hdf5", depth_range=(1.0, 0.5))
+
+
+def test_env_from_robomimic_reproduces_the_exported_episodes(replayed, tmp_path):
+    """The env_args rebuild the env (robomimic's own create_env_from_metadata cannot): reset
+    with a demo's seed and its exported actions give its exported states, bit for bit."""
+    import mujoco
+
+    from bigym.demonstrations.export import env_from_robomimic
+
+    path = export_robomimic(replayed, tmp_path / "demos.hdf5")
+    env = env_from_robomimic(path)
+    try:
+        assert env.control_frequency == 50 and type(env).__name__ == "ReachTargetSingle"
+        with h5py.File(path, "r") as f:
+            for k in range(len(replayed)):
+                group = f[f"data/demo_{k}"]
+                spec = int(group.attrs["state_spec"])
+                states, actions = group["states"][()], group["actions"][()]
+                env.reset(seed=int(group.attrs["seed"]))
+                state = np.empty(mujoco.mj_stateSize(env.model, spec))
+                for t, action in enumerate(actions):
+                    mujoco.mj_getState(env.model, env.data, state, spec)
+                    np.testing.assert_array_equal(state, states[t], err_msg=f"demo_{k} step {t}")
+                    _, reward, terminated, truncated, info = env.step(action)
+                assert info["is_success"] and terminated and reward == 1.0
+    finally:
+        env.close()
+    from bigym.demonstrations import DemoError
+
+    with pytest.raises(DemoError, match="not written by bigym"):
+        env_from_robomimic({"env_name": "Lift", "type": 1, "env_kwargs": {}})
