@@ -93,8 +93,7 @@ class KitchenTask(BiGymEnv):
 
     def union(self, *sets: GeomSet) -> GeomSet:
         """One geom set holding every geom of ``sets`` (build it once, in ``_setup``)."""
-        ids = sorted({int(i) for s in sets for i in s.ids})
-        return self.contacts.geom_set(ids)
+        return self.contacts.geom_set(np.flatnonzero(np.logical_or.reduce([s.mask for s in sets])))
 
     def touching(self, mask_a: GeomSet | np.ndarray, mask_b: GeomSet | np.ndarray) -> bool:
         """Some touching contact joins a geom of ``mask_a`` and a geom of ``mask_b`` (geom
@@ -146,13 +145,8 @@ class KitchenTask(BiGymEnv):
         key = (prop, keys if keys is None or type(keys) is tuple else tuple(keys))
         joints = self._joint_indices.get(key)
         if joints is None:  # joint names, addresses and ranges resolved once, not per step
-            articulated = self.props[prop]
-            indices = range(len(articulated.joint_keys)) if keys is None else [articulated.joint_index(k) for k in keys]
-            indices = list(indices)
-            joints = self._joint_indices[key] = (
-                articulated._jq[indices].copy(),
-                tuple(zip(articulated._lo[indices].tolist(), articulated._span[indices].tolist())),
-            )
+            addresses, lows, spans = self.props[prop].state_mapping(key[1])
+            joints = self._joint_indices[key] = (addresses, tuple(zip(lows.tolist(), spans.tolist())))
         addresses, ranges = joints
         for value, (low, span) in zip(self._qpos.take(addresses).tolist(), ranges):
             state = (value - low) / span

@@ -790,6 +790,12 @@ class ArticulatedProp(Prop):
         """Index of joint ``key`` in the state vector."""
         return self._key_index[key]
 
+    def state_mapping(self, keys: Iterable[str] | None = None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """``(qpos addresses, lows, spans)`` of the listed joints (all by default), such that
+        the normalised state is ``clip((qpos[addresses] - lows) / spans, 0, 1)``."""
+        indices = list(range(len(self._jq))) if keys is None else [self._key_index[k] for k in keys]
+        return self._jq[indices].copy(), self._lo[indices].copy(), self._span[indices].copy()
+
     def get_state(self, data: mujoco.MjData) -> np.ndarray:
         """Normalised joint positions in ``[0, 1]`` (0 closed, 1 open), in joint order."""
         return np.clip((data.qpos[self._jq] - self._lo) / self._span, 0.0, 1.0)
