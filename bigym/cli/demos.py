@@ -16,6 +16,8 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from bigym.demonstrations.store import DATASET_VERSION
+
 demos_app = typer.Typer(help="Demonstrations: list, download, verify, replay, convert, export.", no_args_is_help=True)
 console = Console()
 err_console = Console(stderr=True)
@@ -130,7 +132,7 @@ def list_demos(
     task: TaskOption = None,
     each: Annotated[bool, typer.Option("--each", help="One row per demo instead of per group.")] = False,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """List the demos of a store: per task, action mode and rate (or each demo with --each)."""
     from bigym.demonstrations.metadata import describe_action_mode
@@ -170,7 +172,7 @@ def _size(count: float) -> str:
 def info(
     demo: Annotated[str, typer.Argument(help="A demo file, or a uuid (prefix) in the store.")],
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Show a demo's metadata and tensors."""
     from bigym.demonstrations.metadata import describe_action_mode
@@ -209,7 +211,7 @@ def download(
     task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
     refresh: Annotated[bool, typer.Option(help="Fetch the manifest again.")] = False,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Download (and verify the sha256 of) the demos of a store into the local cache."""
     demo_store = _store(store, version)
@@ -232,7 +234,7 @@ def verify(
     backend: Annotated[str, typer.Option(help="process | ray | serial")] = "process",
     tolerance: Annotated[float | None, typer.Option(help="Joint tolerance for replays at another rate.")] = None,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Replay demos and check every checkpoint and the final success; exit 1 if any fails."""
     from rich.markup import escape
@@ -277,7 +279,7 @@ def replay_command(
     output: Annotated[Path | None, typer.Option(help="Save the replayed demo (safetensors) here.")] = None,
     tolerance: Annotated[float | None, typer.Option(help="Joint tolerance for replays at another rate.")] = None,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Replay one demo (verified), optionally writing a video and the replayed observations."""
     from bigym.demonstrations.player import replay
@@ -311,7 +313,7 @@ def convert(
     output: Annotated[Path | None, typer.Option(help="Write the converted demos into this folder.")] = None,
     add_to_store: Annotated[bool, typer.Option(help="Add the converted demos to the store.")] = False,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Convert demos between absolute and delta actions and/or to another recording rate."""
     from bigym.demonstrations.convert import convert_demo
@@ -354,7 +356,7 @@ def export(
     workers: Annotated[int, typer.Option(min=1, help="Parallel replay processes.")] = 1,
     overwrite: Annotated[bool, typer.Option(help="Replace an existing output.")] = False,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Replay demos with the chosen observations and rate and export them (LeRobot v3 or robomimic HDF5)."""
     from bigym.demonstrations.export import export_lerobot, export_robomimic
@@ -393,7 +395,7 @@ def delete(
     all_cached: Annotated[bool, typer.Option("--all", help="Every cached replay and download of the store.")] = False,
     yes: Annotated[bool, typer.Option("--yes", "-y", help="Do not ask for confirmation.")] = False,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Delete cached replays and downloads (and, with --from-store, the demos themselves)."""
     demo_store = _store(store, version)
@@ -439,7 +441,7 @@ def record(
     steps_after_success: Annotated[int, typer.Option(help="Steps kept after the first success.")] = 100,
     keep_failures: Annotated[bool, typer.Option(help="Also keep episodes that did not succeed.")] = False,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Record episodes of a scripted policy into the store (only successful ones by default)."""
     from bigym.action_modes import JointPositionActionMode
@@ -480,7 +482,7 @@ def generate(
     plain: Annotated[bool, typer.Option(help="The plain controller: straight lines, constant speed.")] = False,
     output: Annotated[Path | None, typer.Option(help="Write the demos into this folder instead of the store.")] = None,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Generate human-like expert demos: record, replay each from its file, keep verified successes.
 
@@ -518,7 +520,7 @@ def stats(
     plot: Annotated[Path | None, typer.Option(help="PNG of the wrist paths seen from above.")] = None,
     as_json: Annotated[Path | None, typer.Option("--json", help="Also write the figures as JSON here.")] = None,
     store: StoreOption = None,
-    version: VersionOption = "v1",
+    version: VersionOption = DATASET_VERSION,
 ) -> None:
     """Diversity and human-likeness of a task's demos (hand split, durations, straightness,
     smoothness) next to a plain straight-line controller, and a top view of the wrist paths."""
@@ -556,10 +558,11 @@ def dataset_build(
     out: Annotated[Path, typer.Argument(help="Store folder to write the dataset version into.")],
     task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
     workers: Annotated[int | None, typer.Option(min=1, help="Processes (default: CPU count, at most 8).")] = None,
-    update_manifest: Annotated[bool, typer.Option(help="Maintainers: write the result as the shipped manifest.")] = False,
+    resume: Annotated[bool, typer.Option(help="Skip tasks whose files OUT already holds complete.")] = True,
+    update_manifest: Annotated[bool, typer.Option(help="Maintainers: merge the result into the shipped manifest.")] = False,
 ) -> None:
-    """Regenerate the expert dataset (15 tasks x 50 verified demos) into OUT and compare it,
-    file by file, with the manifest this bigym ships."""
+    """Regenerate the expert dataset into OUT, task by task (an interrupted build resumes
+    where it stopped), and compare it, file by file, with the manifest this bigym ships."""
     from bigym.demonstrations.store import canonical_task
     from bigym.experts.dataset import DATASET_TASKS, DATASET_VERSION, build_dataset, check_dataset
 
@@ -568,20 +571,43 @@ def dataset_build(
     if unknown:
         _fail(f"not in the dataset: {', '.join(unknown)}; it holds {', '.join(DATASET_TASKS)}")
 
-    def done(report) -> None:
-        console.print(report.summary(), highlight=False)
+    def done(name, report) -> None:
+        if report is None:
+            console.print(f"{name}: already complete in {out}, skipped", highlight=False)
+        else:
+            console.print(report.summary(), highlight=False)
 
-    build_dataset(out, tasks, workers=workers, on_task=done)
+    build_dataset(out, tasks, workers=workers, on_task=done, resume=resume)
     console.print(f"dataset {DATASET_VERSION} written to {out}: serve it with DemoStore({str(out)!r})")
     if update_manifest:
         from bigym.experts.dataset import write_shipped_manifest
 
-        console.print(f"wrote the shipped manifest {write_shipped_manifest(out)}")
+        console.print(f"merged {', '.join(tasks)} into the shipped manifest {write_shipped_manifest(out, tasks)}")
         return
-    check = check_dataset(out, tasks if task else None)
+    check = check_dataset(out, tasks)
     console.print(check.summary(), highlight=False)
     if not check.identical:
         _fail("the rebuilt dataset differs from the shipped manifest")
+
+
+@dataset_app.command("table")
+@_handle_errors
+def dataset_table_command(
+    store: Annotated[str | None, typer.Argument(help="Store URL or folder holding the dataset (default: the local store).")] = None,
+    task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
+) -> None:
+    """Print the README's dataset table (Markdown): generator success and build time from
+    the shipped build record, and the demos' figures next to the plain controller's; then
+    the shipped manifest's size."""
+    from bigym.demonstrations.store import canonical_task
+    from bigym.experts.dataset import dataset_size, dataset_table
+
+    tasks = tuple(canonical_task(t) for t in task) if task else None
+    with console.status("measuring the demos"):
+        table = dataset_table(_store(store, DATASET_VERSION), tasks, progress=False)
+    print(table)
+    print()
+    print(dataset_size())
 
 
 @dataset_app.command("check")

@@ -9,15 +9,18 @@
 File layout (safetensors; metadata is a string map whose values are JSON, see
 :meth:`Metadata.to_header`)::
 
-    Demo                                        ReplayedDemo
-    actions            (T, A)  float64          actions      (T, A)     float64
-    initial_state      (S,)    float64          obs.<key>    (T+1, ...) env dtype
-    checkpoint_steps   (K,)    int64            rewards      (T,)       float64
-    checkpoint_states  (K, C)  float64          terminated / truncated / success (T,) bool
-                                                states       (T+1, C)   float64
+    Demo (format 2)                                  ReplayedDemo
+    actions_packed            (bytes)  uint8         actions      (T, A)     float64
+    initial_state             (S,)     float64       obs.<key>    (T+1, ...) env dtype
+    checkpoint_steps          (K,)     int64         rewards      (T,)       float64
+    checkpoint_states_packed  (bytes)  uint8         terminated / truncated / success (T,) bool
+                                                     states       (T+1, C)   float64
 
-``checkpoint_steps[k]`` counts the actions applied before ``checkpoint_states[k]`` was read;
-the last action always has a checkpoint.
+The packed arrays (``(T, A)`` float64 actions, ``(K, C)`` float64 checkpoint states) are
+lossless: see :mod:`bigym.demonstrations.packing`; the ``packing`` metadata entry says how
+each was packed. Format 1 files, with plain ``actions`` and ``checkpoint_states`` tensors,
+stay readable. ``checkpoint_steps[k]`` counts the actions applied before
+``checkpoint_states[k]`` was read; the last action always has a checkpoint.
 """
 
 from __future__ import annotations
@@ -36,9 +39,11 @@ import safetensors.numpy
 from bigym.demonstrations.atomic import atomic_write
 from bigym.demonstrations.errors import DemoCorruptError
 from bigym.demonstrations.metadata import Metadata
+from bigym.demonstrations.packing import pack_actions, pack_floats, unpack_actions, unpack_floats
 
 DEMO_SUFFIX = ".safetensors"
-_DEMO_KEYS = ("actions", "initial_state", "checkpoint_steps", "checkpoint_states")
+_DEMO_KEYS = ("actions", "initial_state", "checkpoint_steps", "checkpoint_states")  # format 1
+_PACKED_KEYS = ("actions_packed", "initial_state", "checkpoint_steps", "checkpoint_states_packed")
 
 
 # ---------------------------------------------------------------------- file writing
@@ -164,14 +169,18 @@ class Demo:
 
     # ------------------------------------------------------------------ files
     def to_bytes(self) -> bytes:
+        actions, actions_packing = pack_actions(self.actions)
+        states, states_packing = pack_floats(self.checkpoint_states)
         tensors = {
-            "actions": self.actions,
+            "actions_packed": actions,
             "initial_state": self.initial_state,
             "checkpoint_steps": self.checkpoint_steps,
-            "checkpoint_states": self.checkpoint_states,
+            "checkpoint_states_packed": states,
         }
         self.metadata.num_steps = len(self.actions)
-        return safetensors_bytes(tensors, self.metadata.to_header())
+        header = self.metadata.to_header()
+        header["packing"] = json.dumps({"actions": actions_packing, "checkpoint_states": states_packing})
+        return safetensors_bytes(tensors, header)
 
     def save(self, path: Path | str) -> Path:
         """Write atomically; a folder gets ``<uuid>.safetensors`` inside it."""
@@ -183,11 +192,25 @@ class Demo:
     @classmethod
     def from_bytes(cls, data: bytes, source: str = "demo") -> Demo:
         tensors, header = read_safetensors(data, source)
+        packing = header.pop("packing", None)
         metadata = Metadata.from_header(header, source)
-        missing = [key for key in _DEMO_KEYS if key not in tensors]
+        if packing is None:  # format 1: plain arrays
+            missing = [key for key in _DEMO_KEYS if key not in tensors]
+            if missing:
+                raise DemoCorruptError(f"{source} lacks the tensors {missing}; is it a replayed demo?", source=source)
+            return cls(metadata, *(tensors[key] for key in _DEMO_KEYS))
+        missing = [key for key in _PACKED_KEYS if key not in tensors]
         if missing:
-            raise DemoCorruptError(f"{source} lacks the tensors {missing}; is it a replayed demo?", source=source)
-        return cls(metadata, *(tensors[key] for key in _DEMO_KEYS))
+            raise DemoCorruptError(f"{source} lacks the tensors {missing}", source=source)
+        try:
+            packing = json.loads(packing)
+            actions = unpack_actions(tensors["actions_packed"], packing["actions"])
+            states = unpack_floats(tensors["checkpoint_states_packed"], packing["checkpoint_states"], "checkpoints")
+        except (json.JSONDecodeError, KeyError, TypeError, ValueError) as error:
+            raise DemoCorruptError(f"{source} has unreadable packing metadata: {error}", source=source) from error
+        except DemoCorruptError as error:
+            raise DemoCorruptError(f"{source}: {error}", source=source) from error
+        return cls(metadata, actions, tensors["initial_state"], tensors["checkpoint_steps"], states)
 
     @classmethod
     def load(cls, path: Path | str) -> Demo:

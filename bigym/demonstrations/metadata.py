@@ -17,7 +17,7 @@ from bigym.action_modes import ActionMode, action_mode_from_dict
 from bigym.demonstrations.errors import DemoCorruptError
 
 FORMAT = "bigym-demo"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2  # 2: lightweight demos store packed actions and checkpoints (1 stays readable)
 PHYSICS_FREQUENCY = 500.0
 # What a state checkpoint holds: enough to prove a replay is in sync, far less than the
 # full integration state (which also carries applied forces and the warm start).

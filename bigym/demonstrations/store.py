@@ -55,7 +55,8 @@ from bigym.demonstrations.metadata import (
 from bigym.observations import ObservationConfig
 from bigym.paths import bigym_home
 
-DATASET_VERSION = "v1"
+#: the dataset version a store serves by default: the one this bigym ships a manifest for
+DATASET_VERSION = "v2"
 MANIFEST_NAME = "manifest.json"
 INDEX_NAME = "index.json"
 STORE_FORMAT = "bigym-demo-store"

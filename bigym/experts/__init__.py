@@ -14,6 +14,7 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
 :mod:`~bigym.experts.dishwasher` (the task scripts), :mod:`~bigym.experts.generate`
 (``generate_demos``: record, replay from file, keep verified successes),
+:mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
 :mod:`~bigym.experts.stats` (``demo_stats``: diversity and human-likeness figures,
 wrist-path plot).
 """

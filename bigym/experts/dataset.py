@@ -18,11 +18,12 @@ version of either gives other files, and the check says so.
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import dataclass, field
 from pathlib import Path
 
-#: the dataset version this bigym ships a manifest for
-DATASET_VERSION = "v1"
+from bigym.demonstrations.store import DATASET_VERSION  # the version this bigym ships a manifest for
+
 #: the date written into every demo of the version
 DATASET_DATE = "2026-11-23T00:00:00Z"
 DEMOS_PER_TASK = 50
@@ -45,6 +46,7 @@ DATASET_TASKS = (
     "CupboardsCloseAll",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
+BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went
 
 
 def shipped_manifest_path(version: str = DATASET_VERSION) -> Path:
@@ -113,6 +115,56 @@ def check_dataset(store, tasks: tuple[str, ...] | None = None, version: str = DA
     return compare_manifests(path.read_text(), store.manifest(refresh=True).to_json(), tasks)
 
 
+def build_record_path(version: str = DATASET_VERSION) -> Path:
+    """The shipped build record: per task, attempts, generator success, failure reasons, time."""
+    return MANIFEST_DIR / f"{version}-build.json"
+
+
+def _local_record_path(out: Path) -> Path:
+    return Path(out) / DATASET_VERSION / BUILD_RECORD_NAME
+
+
+def _read_record(path: Path) -> dict:
+    return json.loads(path.read_text()) if path.is_file() else {"version": DATASET_VERSION, "tasks": {}}
+
+
+def _write_record(path: Path, record: dict) -> None:
+    from bigym.demonstrations.atomic import atomic_write
+
+    record["tasks"] = dict(sorted(record["tasks"].items()))
+    atomic_write(path, (json.dumps(record, indent=1, sort_keys=True) + "\n").encode())
+
+
+def task_complete(out: Path | str, task: str, per_task: int = DEMOS_PER_TASK) -> bool:
+    """The store folder ``out`` already holds ``task``'s slice of the version: exactly the
+    files the shipped manifest lists for it (or, for a task the manifest does not list yet,
+    the files a build recorded for it in ``out``), each present with its size and sha256."""
+    from bigym.demonstrations.demo import sha256_file
+    from bigym.demonstrations.store import DemoStore
+
+    store = DemoStore(out, version=DATASET_VERSION)
+    held = {(e.path, e.size, e.sha256) for e in store.entries(task=task)}
+    if len(held) != per_task:
+        return False
+    shipped = shipped_manifest_path()
+    expected = set()
+    if shipped.is_file():
+        table = _file_table(shipped.read_text())
+        expected = {(p, size, sha) for p, (size, sha) in table.items() if p.startswith(f"{task}/")}
+    if expected:
+        if held != expected:
+            return False
+    else:
+        recorded = _read_record(_local_record_path(Path(out))).get("tasks", {}).get(task, {})
+        if sorted(recorded.get("files", [])) != sorted(p for p, _, _ in held):
+            return False
+    folder = Path(out) / DATASET_VERSION
+    return all(
+        (folder / p).is_file() and (folder / p).stat().st_size == size and sha256_file(folder / p) == sha
+        for p, size, sha in held
+    )
+
+
 def build_dataset(
     out: Path | str,
     tasks: tuple[str, ...] | None = None,
@@ -120,45 +172,138 @@ def build_dataset(
     progress: bool = True,
     per_task: int = DEMOS_PER_TASK,
     on_task=None,
+    resume: bool = True,
 ) -> list:
-    """Regenerate the dataset version into the store folder ``out`` (task by task).
+    """Regenerate the dataset version into the store folder ``out``, one task at a time.
 
-    Returns the :class:`~bigym.experts.generate.GenerationReport` of every task;
-    ``on_task(report)`` is called as each task finishes. A task already complete in
-    ``out`` (``per_task`` demos with the expected uuids) is generated again all the same:
-    the files are replaced by identical ones.
+    Each task is generated, checked and added before the next starts, so an interrupted
+    build loses at most the task in progress; with ``resume`` a task whose files are
+    already complete in ``out`` (see :func:`task_complete`) is skipped. Every built task's
+    figures (attempts, generator success, failure reasons, seconds) go into
+    ``out/<version>/build.json`` as it finishes. Returns the
+    :class:`~bigym.experts.generate.GenerationReport` of every task built;
+    ``on_task(task, report_or_None)`` is called as each task finishes or is skipped.
     """
+    import platform
+    import time
+
     from bigym.demonstrations.store import DemoStore
     from bigym.experts.generate import generate_demos
 
     store = DemoStore(out, version=DATASET_VERSION)
+    record_path = _local_record_path(Path(out))
     reports = []
     for task in tasks or DATASET_TASKS:
+        if resume and task_complete(out, task, per_task):
+            if on_task is not None:
+                on_task(task, None)
+            continue
+        start = time.perf_counter()
         report = generate_demos(
             task, n=per_task, seed=FIRST_SEED, workers=workers, progress=progress, date=DATASET_DATE
         )
+        seconds = time.perf_counter() - start
         if report.kept < per_task:
             raise RuntimeError(f"{report.summary()}\nthe dataset needs {per_task} demos of {task}")
         old = [e.uuid for e in store.entries(task=task)]
         if old:
             store.remove(old)
-        store.add_many(report.demos)
+        entries = store.add_many(report.demos)
+        record = _read_record(record_path)
+        record["tasks"][task] = {
+            "demos": report.kept,
+            "attempts": len(report.attempts),
+            "generator_success_rate": round(report.success_rate, 4),
+            "failures": report.failure_summary(),
+            "failed_seeds": [seed for seed, _ in report.failures],
+            "build_seconds": round(seconds, 1),
+            "workers": workers or min(8, os.cpu_count() or 1),
+            "machine": f"{platform.machine()}, {os.cpu_count()} CPUs",
+            "demo_seconds": round(sum(d.duration for d in report.demos), 1),
+            "files": sorted(e.path for e in entries),
+        }
+        _write_record(record_path, record)
         reports.append(report)
         if on_task is not None:
-            on_task(report)
+            on_task(task, report)
     return reports
 
 
-def write_shipped_manifest(store, version: str = DATASET_VERSION) -> Path:
-    """Copy ``store``'s manifest into the package (for maintainers cutting a version)."""
+def write_shipped_manifest(out: Path | str, tasks: tuple[str, ...] | None = None, version: str = DATASET_VERSION) -> Path:
+    """Maintainers cutting a version: merge ``tasks``' entries (default: every task it holds)
+    from the manifest of the store folder ``out`` into the shipped manifest, and their build
+    figures into the shipped build record; other tasks' entries are kept as they were."""
+    from bigym.demonstrations.store import DemoStore, Manifest
+
+    store = DemoStore(out, version=version)
+    built = store.manifest(refresh=True)
+    tasks = tuple(tasks) if tasks else tuple(sorted({e.task for e in built.entries}))
+    path = shipped_manifest_path(version)
+    kept = Manifest.from_json(path.read_text(), str(path)).entries if path.is_file() else []
+    entries = [e for e in kept if e.task not in tasks] + [e for e in built.entries if e.task in tasks]
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(Manifest(version, entries).to_json() + "\n")
+    local = _read_record(_local_record_path(Path(out)))
+    shipped = _read_record(build_record_path(version))
+    for task in tasks:
+        if task in local["tasks"]:
+            figures = dict(local["tasks"][task])
+            figures.pop("files", None)  # the manifest lists them
+            shipped["tasks"][task] = figures
+    _write_record(build_record_path(version), shipped)
+    return path
+
+
+def _snake(name: str) -> str:
+    return "".join("_" + c.lower() if c.isupper() else c for c in name).lstrip("_")
+
+
+TABLE_HEADER = (
+    "| task | generator success | build min | distinct plans (most common) | hand split L / R / both "
+    "| duration s, cv | straightness | bell corr. | LDLJ |\n|---|---|---|---|---|---|---|---|---|"
+)
+
+
+def dataset_table(store, tasks: tuple[str, ...] | None = None, progress: bool = True) -> str:
+    """The README's dataset table: per task, the shipped build record's generator success
+    and build time, and the figures of :func:`~bigym.experts.stats.demo_stats` on the
+    store's demos next to the plain controller's on the same seeds (in brackets)."""
     from bigym.demonstrations.store import DemoStore
+    from bigym.experts.stats import demo_stats
 
     if not isinstance(store, DemoStore):
-        store = DemoStore(store, version=version)
-    path = shipped_manifest_path(version)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(store.manifest(refresh=True).to_json() + "\n")
-    return path
+        store = DemoStore(store, version=DATASET_VERSION)
+    record = _read_record(build_record_path()).get("tasks", {})
+    lines = [TABLE_HEADER]
+    for task in tasks or DATASET_TASKS:
+        entries = sorted(store.entries(task=task), key=lambda e: e.seed or 0)
+        if not entries:
+            continue
+        demos = [store.load(e) for e in entries]
+        report = demo_stats(task, demos=demos, progress=progress)
+        d, p = report.demos, report.plain
+        built = record.get(task, {})
+        success = f"{100 * built['generator_success_rate']:.0f}%" if built else "-"
+        minutes = f"{built['build_seconds'] / 60:.1f}" if built else "-"
+        split = " / ".join(f"{100 * d.hand_split.get(k, 0.0):.0f}" for k in ("left", "right", "both"))
+        lines.append(
+            f"| {_snake(task)} | {success} | {minutes} | {d.plans} ({100 * d.top_plan_share:.0f}%) | {split} % "
+            f"| {d.duration_mean:.1f}, {d.duration_cv:.2f} ({p.duration_mean:.1f}, {p.duration_cv:.2f}) "
+            f"| {d.straightness:.2f} ({p.straightness:.2f}) | {d.bell_correlation:.2f} ({p.bell_correlation:.2f}) "
+            f"| {d.ldlj:.1f} ({p.ldlj:.1f}) |"
+        )
+    return "\n".join(lines)
+
+
+def dataset_size(version: str = DATASET_VERSION) -> str:
+    """One line on the shipped manifest's size: demos, bytes, hours, bytes per demo-second."""
+    demos = json.loads(shipped_manifest_path(version).read_text())["demos"]
+    size = sum(entry["size"] for entry in demos)
+    seconds = sum(entry["num_steps"] / entry["frequency"] for entry in demos)
+    return (
+        f"dataset {version}: {len(demos)} demos, {size / 1e6:.0f} MB, {seconds / 3600:.1f} h of demonstration, "
+        f"{size / seconds / 1000:.1f} KB per demo-second"
+    )
 
 
 __all__ = [
@@ -168,8 +313,12 @@ __all__ = [
     "DEMOS_PER_TASK",
     "DatasetCheck",
     "build_dataset",
+    "build_record_path",
     "check_dataset",
     "compare_manifests",
+    "dataset_size",
+    "dataset_table",
     "shipped_manifest_path",
+    "task_complete",
     "write_shipped_manifest",
 ]

@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from bigym.experts.incidents import IncidentWatch
 from bigym.experts.motion import HumanStyle
 from bigym.experts.numerics import numerics_pinned, pinned_environment
 
@@ -135,6 +136,9 @@ def failure_reason(env, info: dict) -> str:
         return f"{prefix}: not at {goal:g}: " + ", ".join(missed)
     if hasattr(base, "target_positions"):
         return f"{prefix}: target not reached"
+    dropped = [name for name, mask in zip(base.fail_on_floor, getattr(base, "_floor_fail_masks", ())) if base.touching(mask, base.floor_mask)]
+    if dropped:
+        return f"{prefix}: {', '.join(dropped)} on the floor"
     return prefix
 
 
@@ -168,12 +172,18 @@ def record_attempt(
     recorder = DemoRecorder(env, source="expert")
     obs, _ = recorder.reset(seed=seed)
     expert = make_expert(env, seed=seed, style=HumanStyle(**style) if style else None)
+    watch = IncidentWatch(env)
     after = None
     info: dict = {}
     for _ in range(env.unwrapped.max_episode_steps + round(AFTER_SUCCESS * CONTROL_FREQUENCY)):
         obs, _, terminated, truncated, info = recorder.step(expert(obs))
         if "unstable" in info:
             break
+        incident = watch.check()
+        if incident is not None:
+            duration = recorder.num_steps / CONTROL_FREQUENCY
+            recorder.discard()
+            return Attempt(index, seed, False, f"rejected: {incident}", None, duration, dict(expert.choices))
         if recorder.first_success_step is not None:
             after = round(AFTER_SUCCESS * CONTROL_FREQUENCY) if after is None else after - 1
             if after <= 0:

@@ -33,10 +33,12 @@ LEG_SEGMENT = 0.4  # thigh and shank length (m)
 # Whole-body stance: a slight knee bend puts the centre of mass over the mid-foot (DESIGN.md).
 STANCE = {"hip_pitch": 0.0, "knee": 0.2, "ankle": -0.2}
 STANCE_HEIGHT = 1.0362
-# Floating-base pelvis height range (m); lower than the stance so the robot can crouch to low shelves.
-FLOATING_Z_RANGE = (0.55, STANDING_HEIGHT)
+# Floating-base pelvis height range (m); lower than the stance so the robot can crouch to low
+# shelves and, at 0.4 m (the original's limit), take a box off the floor with both hands.
+FLOATING_Z_RANGE = (0.4, STANDING_HEIGHT)
 
 GRIPPER_MENAGERIE_CTRL_MAX = 255.0
+PAD_TORSIONAL_FRICTION = 0.01  # m: contact patch radius x sliding friction (see _give_pads_torsional_friction)
 WRIST_POINT_RADIUS = 0.001
 WRIST_RANGE = (-np.pi / 2, np.pi / 2)
 # Motor torque limits (Nm) of the real H1 joints, used as torque bounds and servo force limits.
@@ -172,7 +174,26 @@ def _gripper_spec() -> mujoco.MjSpec:
     spec = _menagerie_spec("robotiq_2f85", "2f85")
     _use_cached_meshes(spec)
     _set_physics_options(spec)
+    _give_pads_torsional_friction(spec)
     return spec
+
+
+def _give_pads_torsional_friction(spec: mujoco.MjSpec) -> None:
+    """Let the finger pads resist twisting about the closing axis, as real silicone pads do.
+
+    The menagerie pads are condim 3 (sliding friction only): an object held off its centre
+    of mass (a mug by its handle, a pan by its long handle) pivots about the closing axis,
+    5-10 degrees in 2 s. condim 4 adds torsional friction; its coefficient is a length, the
+    radius of the contact patch times the sliding friction: ~0.7 x 15 mm for a 22 x 19 mm
+    pad pressed flat, so 0.01. The pads have priority 1, so their condim and friction are
+    the ones used in every pad contact.
+    """
+    pads = [geom for geom in spec.geoms if geom.name.endswith(("_pad1", "_pad2"))]
+    if len(pads) != 4:
+        raise RuntimeError(f"expected four pad geoms in the 2F-85 model, found {[g.name for g in pads]}")
+    for geom in pads:
+        geom.condim = 4
+        geom.friction = [geom.friction[0], PAD_TORSIONAL_FRICTION, geom.friction[2]]
 
 
 def build_robot(config: RobotConfig) -> tuple[mujoco.MjSpec, RobotDescription]:

@@ -23,6 +23,7 @@ METADATA_KEYS = {
     "format", "format_version", "task", "action_mode", "frequency", "observation_config", "task_kwargs", "robot",
     "seed", "source", "success", "uuid", "date", "num_steps", "checkpoint_interval", "checkpoint_spec",
     "initial_state_spec", "bigym_version", "mujoco_version", "model_fingerprint", "action_names", "extra",
+    "packing",
 }  # fmt: skip
 
 
@@ -81,12 +82,16 @@ def test_file_holds_the_documented_tensors_and_metadata(tmp_path, expert_demos):
         keys = set(handle.keys())
         shapes = {key: handle.get_tensor(key).shape for key in keys}
         dtypes = {key: handle.get_tensor(key).dtype for key in keys}
-    assert keys == {"actions", "initial_state", "checkpoint_steps", "checkpoint_states"}
-    assert shapes["actions"] == (len(demo), 16) and dtypes["actions"] == np.float64
+    assert keys == {"actions_packed", "initial_state", "checkpoint_steps", "checkpoint_states_packed"}
+    assert dtypes["actions_packed"] == np.uint8 and dtypes["checkpoint_states_packed"] == np.uint8
     assert dtypes["checkpoint_steps"] == np.int64
     assert set(header) == METADATA_KEYS
     values = {key: json.loads(value) for key, value in header.items() if key != "format"}
-    assert header["format"] == "bigym-demo"
+    assert header["format"] == "bigym-demo" and values["format_version"] == 2
+    # This scripted policy's delta actions lie on no grid: packed as floats, with the shape they unpack to
+    # (the human-like experts' actions pack as integers: tests/experts/test_dataset.py).
+    assert values["packing"]["actions"] == {"codec": "shuffle-bz2", "shape": [len(demo), 16]}
+    assert values["packing"]["checkpoint_states"]["shape"] == list(demo.checkpoint_states.shape)
     assert values["task"] == "ReachTargetSingle"
     assert values["action_mode"] == {"name": "JointPositionActionMode", "floating_base": True,
                                      "floating_dofs": ["x", "y", "z", "rz"], "absolute": False}  # fmt: skip

@@ -28,7 +28,7 @@ from bigym.demonstrations import (
     player,
 )
 from bigym.demonstrations.atomic import is_partial, sweep_partial_files
-from bigym.demonstrations.store import ReplayCache
+from bigym.demonstrations.store import DATASET_VERSION, ReplayCache
 from bigym.envs.reach_target import ReachTargetDual, ReachTargetSingle
 from bigym.observations import CameraConfig, ObservationConfig
 
@@ -71,7 +71,7 @@ def http_store(local_store, tmp_path):
     thread.start()
     url = f"http://127.0.0.1:{server.server_address[1]}"
     try:
-        yield DemoStore(url, cache_dir=tmp_path / "http-cache"), counts, tmp_path / "store" / "v1"
+        yield DemoStore(url, cache_dir=tmp_path / "http-cache"), counts, tmp_path / "store" / DATASET_VERSION
     finally:
         server.shutdown()
         server.server_close()
@@ -80,16 +80,16 @@ def http_store(local_store, tmp_path):
 def test_store_layout_manifest_and_index(local_store, tmp_path):
     root = tmp_path / "store"
     index = json.loads((root / "index.json").read_text())
-    assert index == {"format": "bigym-demo-store", "versions": ["v1"], "latest": "v1"}
-    manifest = json.loads((root / "v1" / "manifest.json").read_text())
-    assert manifest["format"] == "bigym-demo-store" and manifest["version"] == "v1"
+    assert index == {"format": "bigym-demo-store", "versions": [DATASET_VERSION], "latest": DATASET_VERSION}
+    manifest = json.loads((root / DATASET_VERSION / "manifest.json").read_text())
+    assert manifest["format"] == "bigym-demo-store" and manifest["version"] == DATASET_VERSION
     assert len(manifest["demos"]) == 3
     for item in manifest["demos"]:
-        path = root / "v1" / item["path"]
+        path = root / DATASET_VERSION / item["path"]
         assert item["path"].startswith("ReachTargetSingle/joint_position-absolute-floating_x_y_z_rz/500hz/")
         assert path.stat().st_size == item["size"] and len(item["sha256"]) == 64
         assert item["success"] is True and item["source"] == "expert"
-    assert DemoStore(root, version="latest").version == "v1"
+    assert DemoStore(root, version="latest").version == DATASET_VERSION
     with pytest.raises(DemoError, match="already in"):
         local_store.add(local_store.load(manifest["demos"][0]["uuid"]))
 
@@ -151,7 +151,7 @@ def test_http_store_downloads_once_then_hits_the_cache(http_store):
     assert len(demos) == 2
     demo_gets = {path: n for path, n in counts.items() if path.endswith(".safetensors")}
     assert len(demo_gets) == 2 and set(demo_gets.values()) == {1}
-    assert counts["/v1/manifest.json"] == 1
+    assert counts[f"/{DATASET_VERSION}/manifest.json"] == 1
     before = sum(counts.values())
     # A new store object on the same URL and cache: no request at all.
     fresh = DemoStore(store.url, cache_dir=store._cache_root)
@@ -189,12 +189,12 @@ def test_corrupted_cached_download_is_fetched_again(http_store):
     path = store.fetch(entry)
     path.write_bytes(b"garbage")
     assert store.load(entry).uuid == entry.uuid
-    assert counts[f"/v1/{entry.path}"] == 2
+    assert counts[f"/{DATASET_VERSION}/{entry.path}"] == 2
 
 
 def test_local_store_detects_modified_and_damaged_files(local_store, tmp_path):
     entries = local_store.entries()
-    path = tmp_path / "store" / "v1" / entries[0].path
+    path = tmp_path / "store" / DATASET_VERSION / entries[0].path
     path.write_bytes(path.read_bytes()[:-10])
     with pytest.raises(DemoChecksumError, match="truncated"):
         local_store.get_demos(_query(), amount=1)
@@ -271,7 +271,7 @@ def test_remove_deletes_files_manifest_entries_and_replays(local_store, tmp_path
     entry = local_store.entries()[0]
     local_store.remove([entry.uuid[:8]])
     assert entry.uuid not in {e.uuid for e in local_store.entries()}
-    assert not (tmp_path / "store" / "v1" / entry.path).exists()
+    assert not (tmp_path / "store" / DATASET_VERSION / entry.path).exists()
     assert not any(entry.uuid in str(p) for p in local_store.replays.entries())
     assert len(local_store.get_demos(query)) == 2
 
@@ -285,7 +285,7 @@ def test_remote_filesystem_store_writes_and_downloads(tmp_path, expert_demos):
     assert not writer.is_local
     writer.add(expert_demos["single_absolute"])
     fs = fsspec.filesystem("memory")
-    assert fs.exists(f"{url}/v1/manifest.json") and fs.exists(f"{url}/index.json")
+    assert fs.exists(f"{url}/{DATASET_VERSION}/manifest.json") and fs.exists(f"{url}/index.json")
     reader = DemoStore(url, cache_dir=tmp_path / "cache-r")
     (entry,) = reader.entries()
     demos = reader.get_demos(_query(frequency=100), amount=1)

@@ -20,6 +20,7 @@ from bigym.experts.dataset import (
     DATASET_VERSION,
     DEMOS_PER_TASK,
     build_dataset,
+    build_record_path,
     check_dataset,
     compare_manifests,
     shipped_manifest_path,
@@ -70,7 +71,12 @@ def test_demo_header_keys_are_sorted_and_the_file_still_loads(tmp_path):
     header = json.loads(data[8 : 8 + size])
     assert list(header) == sorted(header)
     assert list(header["__metadata__"]) == sorted(header["__metadata__"])
-    assert set(safetensors.numpy.load(data)) == {"actions", "initial_state", "checkpoint_steps", "checkpoint_states"}
+    assert set(safetensors.numpy.load(data)) == {
+        "actions_packed", "initial_state", "checkpoint_steps", "checkpoint_states_packed"
+    }  # fmt: skip
+    # The expert's actions lie on its 2**-17 grid: packed as integers.
+    packing = json.loads(header["__metadata__"]["packing"])
+    assert packing["actions"]["codec"] == "grid-delta2-bz2" and packing["actions"]["grid_bits"] == 17
     demo = Demo.from_bytes(data)
     assert demo.to_bytes() == data  # a load/save round trip changes nothing
     assert demo.metadata.date == "2026-01-01T00:00:00Z"
@@ -114,6 +120,53 @@ def test_shipped_manifest_lists_fifty_demos_of_each_task():
     assert per_task == {task: DEMOS_PER_TASK for task in DATASET_TASKS}
 
 
+def test_shipped_demos_are_light_and_every_task_has_its_build_figures():
+    """Issue 10's target: at most 18 KB per demo-second over the whole shipped manifest;
+    and the build record says, per task, how the generator did and how long it took."""
+    payload = json.loads(shipped_manifest_path().read_text())
+    size = sum(entry["size"] for entry in payload["demos"])
+    seconds = sum(entry["num_steps"] / entry["frequency"] for entry in payload["demos"])
+    assert size / seconds <= 18_000, f"{size / seconds:.0f} bytes per demo-second"
+    record = json.loads(build_record_path().read_text())
+    assert record["version"] == DATASET_VERSION and set(record["tasks"]) == set(DATASET_TASKS)
+    for task, figures in record["tasks"].items():
+        assert figures["demos"] == DEMOS_PER_TASK <= figures["attempts"], task
+        assert figures["generator_success_rate"] == pytest.approx(DEMOS_PER_TASK / figures["attempts"], abs=1e-4)
+        assert sum(figures["failures"].values()) == figures["attempts"] - DEMOS_PER_TASK == len(figures["failed_seeds"])
+        assert figures["build_seconds"] > 0 and figures["demo_seconds"] > 0
+
+
+def test_an_interrupted_build_resumes_and_a_cut_merges_into_the_shipped_manifest(tmp_path, monkeypatch):
+    """A task whose files are complete is skipped; one with a file missing is built again;
+    merging one task into the shipped manifest keeps every other task's entries."""
+    import bigym.experts.dataset as dataset
+
+    monkeypatch.setattr(dataset, "MANIFEST_DIR", tmp_path / "manifests")  # a version being cut
+    out = tmp_path / "store"
+    seen: list = []
+    build_dataset(out, ("ReachTargetDual",), workers=1, progress=False, per_task=2, on_task=lambda t, r: seen.append(r))
+    assert seen[-1] is not None and dataset.task_complete(out, "ReachTargetDual", per_task=2)
+    files = sorted((out / DATASET_VERSION).rglob("*.safetensors"))
+    stamps = [f.stat().st_mtime_ns for f in files]
+    build_dataset(out, ("ReachTargetDual",), workers=1, progress=False, per_task=2, on_task=lambda t, r: seen.append(r))
+    assert seen[-1] is None and [f.stat().st_mtime_ns for f in files] == stamps  # skipped, untouched
+    files[0].unlink()  # as if the build had stopped before this file
+    assert not dataset.task_complete(out, "ReachTargetDual", per_task=2)
+    build_dataset(out, ("ReachTargetDual",), workers=1, progress=False, per_task=2, on_task=lambda t, r: seen.append(r))
+    assert seen[-1] is not None and sorted((out / DATASET_VERSION).rglob("*.safetensors")) == files
+
+    other = {"path": "Other/x/500hz/1.safetensors", "sha256": "0" * 64, "size": 1, "uuid": "1", "task": "Other",
+             "action_mode": {}, "frequency": 500.0, "num_steps": 1}  # fmt: skip
+    (tmp_path / "manifests").mkdir()
+    dataset.shipped_manifest_path().write_text(json.dumps({"format": "bigym-demo-store", "demos": [other]}))
+    dataset.write_shipped_manifest(out, ("ReachTargetDual",))
+    merged = json.loads(dataset.shipped_manifest_path().read_text())
+    assert sorted(e["task"] for e in merged["demos"]) == ["Other", "ReachTargetDual", "ReachTargetDual"]
+    record = json.loads(dataset.build_record_path().read_text())
+    assert record["tasks"]["ReachTargetDual"]["demos"] == 2 and "files" not in record["tasks"]["ReachTargetDual"]
+    assert dataset.task_complete(out, "ReachTargetDual", per_task=2)  # now against the merged manifest
+
+
 @pytest.mark.parametrize("task", DATASET_TASKS)
 def test_the_first_demo_of_every_shipped_task_regenerates_byte_for_byte(tmp_path, task):
     """Every task of the shipped dataset, not one: its first demo, regenerated here, has the
@@ -136,7 +189,7 @@ def test_a_rebuilt_task_matches_the_shipped_manifest_file_for_file(tmp_path):
 def test_check_reports_missing_changed_and_extra_files():
     def manifest(files: dict[str, str]) -> str:
         demos = [{"path": p, "size": 10, "sha256": hashlib.sha256(c.encode()).hexdigest()} for p, c in files.items()]
-        return json.dumps({"version": "v1", "demos": demos})
+        return json.dumps({"version": "vX", "demos": demos})
 
     expected = manifest({"A/x/500hz/1.safetensors": "a", "A/x/500hz/2.safetensors": "b", "B/x/500hz/3.safetensors": "c"})
     same = compare_manifests(expected, expected)

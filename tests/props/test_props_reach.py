@@ -157,6 +157,9 @@ def _targets(scene: Scene, model: mujoco.MjModel) -> list[Target]:
     return out
 
 
+COUNTER_CROUCH = 0.55  # lowest pelvis height tried for targets on furniture
+
+
 class _Reacher:
     """Damped least-squares IK of one gripper's pinch point over the base and one arm."""
 
@@ -168,6 +171,9 @@ class _Reacher:
             jids = np.array([model.joint(n).id for n in names])
             lo = np.where(model.jnt_limited[jids], model.jnt_range[jids, 0], -np.inf)
             hi = np.where(model.jnt_limited[jids], model.jnt_range[jids, 1], np.inf)
+            # Counter work without a deep squat: this collision-blind IK otherwise sinks the
+            # pelvis to the 0.4 m floor-reach limit and pushes the body into the cabinets.
+            lo[2] = max(lo[2], COUNTER_CROUCH)
             site = model.site(desc.pinch_sites[s]).id
             self.sides[side] = (
                 model.jnt_qposadr[jids],
