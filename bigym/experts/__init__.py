@@ -11,9 +11,11 @@ turns them into base and arm joint targets with a whole-body mink IK
 (straight lines at constant speed) for comparisons.
 
 Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
+:mod:`~bigym.experts.grasping` (pick, carry and place skills),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
-:mod:`~bigym.experts.dishwasher` (the task scripts), :mod:`~bigym.experts.generate`
-(``generate_demos``: record, replay from file, keep verified successes),
+:mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks` (the task scripts),
+:mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
+verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
 :mod:`~bigym.experts.stats` (``demo_stats``: diversity and human-likeness figures,
 wrist-path plot).
@@ -44,6 +46,7 @@ EXPERTS: dict[str, str] = {
     "ReachTargetDual": "bigym.experts.reach:ReachExpert",
     **{task: "bigym.experts.cupboards:CupboardExpert" for task in _CUPBOARDS},
     **{task: "bigym.experts.dishwasher:DishwasherExpert" for task in _DISHWASHER},
+    "StackBlocks": "bigym.experts.stack_blocks:StackBlocksExpert",
 }
 
 

@@ -44,6 +44,7 @@ DATASET_TASKS = (
     "WallCupboardClose",
     "CupboardsOpenAll",
     "CupboardsCloseAll",
+    "StackBlocks",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

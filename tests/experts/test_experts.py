@@ -1,10 +1,10 @@
-"""The scripted demonstrators: each of the 15 tasks succeeds, and its demo replays.
+"""The scripted demonstrators: each of their tasks succeeds, and its demo replays.
 
 Every case records the expert through the DemoRecorder at 500 Hz in the benchmark's
 action mode (floating base, absolute joint positions), serialises the lightweight demo,
 replays it from those bytes (bit-exact checkpoints) and checks success, on two seeds per
-task. The experts' generator success rate is not 100% (measured building dataset v1:
-39-42% for the four-door cupboards, 69-100% for the other door, drawer and dishwasher tasks,
+task. The experts' generator success rate is not 100% (see ``manifests/v2-build.json``:
+48-51% for the four-door cupboards, 75-100% for the other door, drawer and dishwasher tasks,
 100% for the reach tasks; the generator keeps only verified demos), so a case may use up
 to ``SPARE_SEEDS`` extra seeds, and fails when it needs more.
 """

@@ -1,0 +1,278 @@
+"""Grasping skills: take an object from above, carry it while walking, put it down.
+
+What a person does, and so what these skills do: the hand comes to a point before the
+object with the fingers open and already turned to the object's faces (pre-grasp), goes
+in slowly, closes (and tries again if it closed on nothing), lifts it clear; the object
+is carried with the hand held still relative to the body while the person walks; at the
+goal the person stands where the arm reaches the spot as it reached the object, holds it
+level over the spot, lowers it until it is felt to rest, opens, and draws the hand away.
+
+The hand closes across two faces of the object (pinch y along their normal, kept
+horizontal) and comes in from the front and above (pinch z tilted down from the body's
+forward direction): the 5-joint arm cannot point the hand straight down at arm's length,
+and a person does not either. The closing direction is turned only as far as the wrist
+and the body turn comfortably, so for objects with symmetric faces (a cube: four) the
+face pair nearest the hand's natural, across-the-body direction is chosen.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Generator, Sequence
+
+import numpy as np
+
+from bigym.experts.expert import Expert, HandReference, Script
+from bigym.experts.geometry import axis_angle_matrix, frame_from_axes, yaw_matrix
+from bigym.robot.h1 import STANDING_HEIGHT
+
+DOWN = np.array([0.0, 0.0, -1.0])
+#: how far (m) before a grasp point, along the approach, the hand pauses before going in
+PRE_GRASP_HEIGHT = 0.1
+#: walking and turning speeds (m/s, rad/s) a leg's peak stays under: below the IK's base limits
+WALK_SPEED = 0.7
+TURN_SPEED = 1.0
+PEAK = 1.875  # peak over mean speed of a minimum-jerk movement
+#: how much of a walking leg overlaps the next (the corners are rounded, not stopped at)
+LEG_OVERLAP = 0.3
+#: a gripper closed further than this holds nothing
+EMPTY_GRIP = 0.85
+#: orientation costs of a grasp, about the pinch axes: turning about the closing axis (y)
+#: only tilts the approach and is left almost free; turning about the other two moves the
+#: closing direction off the object's face normal
+GRASP = np.array([2.0, 0.1, 2.0])
+#: orientation costs while holding an object: it turns with the hand, about every axis
+HOLD = np.array([2.0, 1.0, 2.0])
+#: orientation costs while carrying: the object stays level
+CARRY = np.array([0.8, 0.8, 1.5])
+#: how steeply (rad below the horizontal) the hand comes down onto an object: at arm's
+#: length the arm gives 20-35 degrees
+GRASP_TILT = 0.5
+#: closing directions (rad from the body's lateral axis, counter-clockwise seen from above)
+#: each hand reaches down to comfortably, measured with the IK on points 0.3-0.5 m ahead:
+#: the right hand from -20 to +40 degrees, the left mirrored
+COMFORT = {0: (-0.6, 0.3), 1: (-0.3, 0.6)}
+
+
+class GraspingExpert(Expert):
+    """An :class:`Expert` with pick, carry and place skills."""
+
+    def start(self) -> None:
+        #: per hand, the pinch pose in the base frame when it took what it holds
+        self.grasp_pose: list[tuple[np.ndarray, np.ndarray] | None] = [None, None]
+        super().start()
+
+    # ------------------------------------------------------------------ geometry
+    def grasp_rotation(self, side: int, closing: np.ndarray, tilt: float = GRASP_TILT) -> np.ndarray:
+        """Pinch frame closing along ``closing`` (made horizontal; the sign that turns the
+        wrist least) and approaching from the body's side, ``tilt`` rad below horizontal."""
+        y = np.array([closing[0], closing[1], 0.0])
+        y /= np.linalg.norm(y)
+        _, current = self.hand_pose(side)
+        if current[:, 1] @ y < 0.0:
+            y = -y
+        forward = yaw_matrix(self.base_pose()[3]) @ np.array([1.0, 0.0, 0.0])
+        ahead = forward - (forward @ y) * y
+        ahead /= np.linalg.norm(ahead)
+        approach = np.cos(tilt) * ahead + np.sin(tilt) * DOWN
+        return frame_from_axes(np.cross(y, approach), approach)
+
+    def face_closing(self, side: int, object_yaw: float, faces: int = 4, facing_yaw: float | None = None) -> tuple[np.ndarray, float]:
+        """The closing direction for an object with ``faces`` symmetric faces (normals at
+        yaw + k 2 pi / faces) nearest the middle of ``side``'s comfortable range, for the
+        body facing ``facing_yaw`` (default: as it stands); and how far (rad) the body
+        should turn for it to lie inside that range."""
+        yaw = self.base_pose()[3] if facing_yaw is None else facing_yaw
+        low, high = COMFORT[side]
+        middle = 0.5 * (low + high)
+        best_delta = np.inf
+        for k in range(faces):
+            normal = object_yaw + k * 2.0 * np.pi / faces
+            delta = float(np.angle(np.exp(2j * (normal - (yaw + 0.5 * np.pi)))) / 2.0)  # the closing sign is free
+            if abs(delta - middle) < abs(best_delta - middle):
+                best_delta = delta
+        turn = best_delta - float(np.clip(best_delta, low, high))
+        direction = yaw_matrix(yaw + 0.5 * np.pi + best_delta) @ np.array([1.0, 0.0, 0.0])
+        return direction, turn
+
+    # ------------------------------------------------------------------ skills
+    def pick(
+        self,
+        side: int,
+        aim: Callable[[], tuple[np.ndarray, np.ndarray]],
+        lift: float = 0.12,
+        via: Sequence[np.ndarray] | None = None,
+        attempts: int = 3,
+    ) -> Generator[None, None, bool]:
+        """Take an object from above and lift it ``lift`` metres; ``aim()`` gives the pinch
+        point and the closing direction from the object as it lies now. A grasp that
+        closes on nothing (the object slipped away or was missed) is tried again from
+        above, as a person would, up to ``attempts`` times. Returns whether it holds."""
+        for attempt in range(attempts):
+            self.note(f"pick {'LR'[side]}" + (f" again ({attempt})" if attempt else ""))
+            point, closing = aim()
+            rotation = self.grasp_rotation(side, closing)
+            approach = rotation[:, 2]
+            above = point - approach * (PRE_GRASP_HEIGHT + abs(self.human.jitter(0.02)))
+            self.grip[side] = 0.0
+            end = self.move_hand(
+                side, above, rotation, GRASP, lift=0.05, correct=not attempt, precision=0.03, via=None if attempt else via
+            )
+            yield from self.until(end)
+            yield from self.hesitate()
+            end = self.move_hand(side, point, rotation, GRASP, spread=0.0, precision=0.004, speed=0.6, tremor=0.3)
+            yield from self.until(end + 0.1)
+            yield from self.set_grip(side, 1.0, max_wait=0.8, min_wait=0.35)
+            holds = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
+            goal = (point if holds else self.hand_pose(side)[0]) + np.array([0.0, 0.0, lift if holds else 0.06])
+            if holds:  # from now on the hand keeps the orientation it grasped with: the object turns with it
+                rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()
+                pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]].copy()
+                self.grasp_pose[side] = _to_base(self.commanded_base(), pinch, rotation)
+            if not holds:
+                self.grip[side] = 0.0
+            end = self.move_hand(side, goal, rotation, HOLD if holds else GRASP, spread=0.2, tremor=0.5)
+            yield from self.until(end)
+            if holds:
+                return True
+        return False
+
+    def stance_for(self, side: int, pinch_target: np.ndarray, yaw: float) -> np.ndarray:
+        """A base pose (x, y, z, yaw) from which ``side``'s hand reaches ``pinch_target`` the
+        way it held the object when it took it: the arm then takes the same posture, and
+        the object comes down as level as it went up."""
+        local, _ = self.grasp_pose[side]
+        rotation = yaw_matrix(yaw)
+        origin = np.asarray(pinch_target, float) - rotation @ local
+        return np.array([origin[0], origin[1], float(np.clip(origin[2], 0.6, STANDING_HEIGHT)), yaw])
+
+    def level_rotation(self, side: int, body: int) -> np.ndarray:
+        """The hand orientation that puts a held body level (its most vertical axis along
+        the world's), turning the hand as little as possible from where it is."""
+        frame = self.data.xmat[body].reshape(3, 3)
+        axis = frame[:, int(np.argmax(np.abs(frame[2, :])))]
+        axis = axis * np.sign(axis[2])
+        turn_axis = np.cross(axis, [0.0, 0.0, 1.0])
+        angle = float(np.arcsin(min(1.0, np.linalg.norm(turn_axis))))
+        hand = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3)
+        if angle < 1e-6:
+            return hand.copy()
+        return axis_angle_matrix(turn_axis / np.linalg.norm(turn_axis), angle) @ hand
+
+    def held_offset(self, side: int, body: int) -> np.ndarray:
+        """Where the pinch point is relative to a held body's origin (world axes): how the
+        object sits in the hand, as a person sees it."""
+        return self.data.site_xpos[self.env.robot.pinch_site_ids[side]] - self.data.xpos[body]
+
+    def touches_support(self, body: int) -> bool:
+        """The body touches something that is not the robot (what it is put down on)."""
+        data, model = self.data, self.model
+        robot_root = model.body_rootid[self.env.robot.pelvis_id]
+        for index in range(data.ncon):
+            first, second = (model.geom_bodyid[g] for g in data.contact.geom[index])
+            if first == body and model.body_rootid[second] != robot_root:
+                return True
+            if second == body and model.body_rootid[first] != robot_root:
+                return True
+        return False
+
+    def place(self, side: int, point: np.ndarray, body: int | None = None, sink: float = 0.015) -> Script:
+        """Put the held object down so that its origin (the pinch centre if ``body`` is
+        None) ends at ``point``, open, and rise away. With ``body``, the hand goes on down
+        slowly, up to ``sink`` metres past the point, until the object rests on something,
+        as a person feels it land, so that the opening fingers cannot drag it along."""
+        self.note(f"place {'LR'[side]}")
+        _, rotation = self.hand_pose(side)
+        holding = body is not None and np.linalg.norm(self.held_offset(side, body)) < 0.08
+        if holding:  # bring it over the spot level, as a person straightens what they hold
+            rotation = self.level_rotation(side, body)
+        above = point + np.array([0.0, 0.0, PRE_GRASP_HEIGHT * 0.8 + abs(self.human.jitter(0.02))])
+        if holding:
+            above = above + self.held_offset(side, body)
+        end = self.move_hand(side, above, rotation, HOLD, correct=True, precision=0.02)
+        yield from self.until(end)
+        if holding:  # look again, now that the object hangs still over the spot
+            rotation = self.level_rotation(side, body)
+            point = point + self.held_offset(side, body)
+        end = self.move_hand(side, point, rotation, HOLD, spread=0.0, precision=0.004, speed=0.5, tremor=0.3)
+        if body is None:
+            yield from self.until(end + 0.15)
+        else:
+            while self.time < end and not self.touches_support(body):
+                yield
+            if not self.touches_support(body):
+                end = self.move_hand(
+                    side, point - np.array([0.0, 0.0, sink]), rotation, HOLD, duration=0.6, spread=0.0, tremor=0.2
+                )
+                while self.time < end and not self.touches_support(body):
+                    yield
+            self.hold_hand(side, HOLD, tremor=0.2)
+            yield from self.wait(0.1)
+        yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
+        p, _ = self.hand_pose(side)
+        back = p - rotation[:, 2] * 0.06 + np.array([0.0, 0.0, 0.08])  # out along the approach, and up
+        end = self.move_hand(side, back, rotation, GRASP * 0.5, spread=0.2, tremor=0.5)
+        yield from self.until(end)
+
+    def walk(self, route: Sequence[Sequence[float]], carrying: Sequence[int] = (), speed: float = 1.0) -> Script:
+        """Walk the base through ``route`` (x, y, z, yaw waypoints), the ``carrying`` hands
+        held still relative to the pelvis.
+
+        Each leg is a minimum-jerk movement; the next one starts before the last ends (by
+        ``LEG_OVERLAP`` of its duration), so the legs add up to one movement that rounds
+        its corners, as a person's submovements blend, instead of stopping at each.
+        """
+        b0 = self.commanded_base()
+        for side in carrying:
+            p, r = self.hand_pose(side)
+            local_p, local_r = _to_base(b0, p, r)
+            cost = self.hands[side].orientation_cost if self.hands[side] is not None else CARRY
+            self.hands[side] = HandReference(
+                (lambda t, lp=local_p: _from_base(self.base_ref(t), lp, None)[0]),
+                (lambda t, lr=local_r: _from_base(self.base_ref(t), None, lr)[1]),
+                cost,
+                tremor=0.5,
+            )
+        legs: list[tuple[float, float, np.ndarray]] = []  # start, duration, displacement
+        start, t = b0, self.time
+        for goal in route:
+            b = np.array(goal, float)
+            b[3] = start[3] + np.arctan2(np.sin(b[3] - start[3]), np.cos(b[3] - start[3]))
+            distance = float(np.linalg.norm(b[:2] - start[:2]))
+            turn = abs(float(b[3] - start[3]))
+            jitter = float(np.exp(self.human.jitter(self.style.movement_jitter)))
+            duration = (0.4 + 1.1 * (distance + 0.3 * turn)) * jitter * self.style.slowness / (self.human.speed * speed)
+            # a minimum-jerk leg peaks at 1.875 x its mean speed: stay within what the base can do
+            duration = max(duration, PEAK * distance / WALK_SPEED, PEAK * turn / TURN_SPEED, 0.05)
+            if legs:
+                t -= LEG_OVERLAP * min(duration, legs[-1][1])
+            legs.append((t, duration, b - start))
+            t += duration
+            start = b
+        profile = self.human.profile
+
+        def base_at(time: float) -> np.ndarray:
+            out = b0.copy()
+            for leg_start, duration, displacement in legs:
+                out = out + displacement * profile((time - leg_start) / duration)
+            return out
+
+        self.base_ref = base_at
+        yield from self.until(t)
+        self.base_ref = lambda time, end=start: end
+        for side in carrying:
+            self.hold_hand(side, self.hands[side].orientation_cost, tremor=0.5)
+
+
+def _to_base(base: np.ndarray, p: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    rotation = yaw_matrix(base[3])
+    origin = np.array([base[0], base[1], base[2]])
+    return rotation.T @ (p - origin), rotation.T @ r
+
+
+def _from_base(base: np.ndarray, p: np.ndarray | None, r: np.ndarray | None) -> tuple:
+    rotation = yaw_matrix(base[3])
+    origin = np.array([base[0], base[1], base[2]])
+    return (None if p is None else rotation @ p + origin), (None if r is None else rotation @ r)
+
+
+__all__ = ["GraspingExpert"]

@@ -1,0 +1,53 @@
+"""Grasping skills' geometry: which faces a hand closes on, and how the base walks a route."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from bigym.experts import make_expert
+from bigym.experts.generate import _env, close_envs
+from bigym.experts.grasping import COMFORT, LEG_OVERLAP, PEAK, WALK_SPEED
+
+
+@pytest.fixture(scope="module")
+def expert():
+    env = _env("StackBlocks")
+    obs, _ = env.reset(seed=0)
+    expert = make_expert(env, seed=0)
+    expert(obs)  # starts the script
+    yield expert
+    close_envs()
+
+
+@pytest.mark.parametrize("side", [0, 1])
+def test_the_hand_closes_across_two_faces_within_reach_after_the_turn(expert, side):
+    for object_yaw in np.linspace(-np.pi, np.pi, 37):
+        direction, turn = expert.face_closing(side, object_yaw, facing_yaw=0.0)
+        normals = [np.array([np.cos(object_yaw + k * np.pi / 2), np.sin(object_yaw + k * np.pi / 2)]) for k in range(4)]
+        assert max(abs(float(direction[:2] @ n)) for n in normals) == pytest.approx(1.0, abs=1e-9)
+        # turned by ``turn``, the closing direction lies in the hand's comfortable range
+        delta = np.arctan2(direction[1], direction[0]) - (0.5 * np.pi + turn)
+        delta = float(np.angle(np.exp(2j * delta)) / 2.0)
+        low, high = COMFORT[side]
+        assert low - 1e-9 <= delta <= high + 1e-9
+        assert abs(turn) <= np.pi / 4  # faces every quarter turn: never more than an eighth
+
+
+def test_a_walk_rounds_its_corners_stays_within_the_base_speed_and_ends_on_the_goal(expert):
+    start = expert.commanded_base()
+    route = [start + [0.0, 1.0, 0.0, 0.0], start + [1.5, 1.0, 0.0, 0.5]]
+    script = expert.walk(route)
+    samples = []
+    t0 = expert.time
+    for _ in script:
+        samples.append(expert.base_ref(expert.time)[:2].copy())
+        expert.time += expert.dt
+    samples = np.array(samples)
+    np.testing.assert_allclose(expert.base_ref(expert.time), route[-1], atol=1e-9)
+    speeds = np.linalg.norm(np.diff(samples, axis=0), axis=1) / expert.dt
+    assert speeds.max() <= WALK_SPEED * 1.05
+    # the corner is rounded (the legs overlap), not visited: the path never reaches it
+    corner = route[0][:2]
+    assert LEG_OVERLAP > 0 and np.linalg.norm(samples - corner, axis=1).min() > 0.01
+    assert expert.time - t0 < sum(PEAK * d / WALK_SPEED for d in (1.0, 1.5)) + 2.0
