@@ -160,24 +160,11 @@ def check_env_for_demo(demo: Demo, env, convert: bool = False) -> None:
 
 
 # ---------------------------------------------------------------------- replay
-_FINGERPRINTS: OrderedDict[int, tuple[object, str]] = OrderedDict()
-
-
-def _fingerprint(model) -> str:
-    """model_fingerprint, computed once per compiled model in this process."""
-    cached = _FINGERPRINTS.get(id(model))
-    if cached is None or cached[0] is not model:
-        cached = (model, model_fingerprint(model))
-        _FINGERPRINTS[id(model)] = cached
-        while len(_FINGERPRINTS) > 8:
-            _FINGERPRINTS.popitem(last=False)
-    return cached[1]
-
 
 def _mismatch_hint(demo: Demo, env) -> str:
     notes = []
     meta = demo.metadata
-    if meta.model_fingerprint and meta.model_fingerprint != _fingerprint(env.model):
+    if meta.model_fingerprint and meta.model_fingerprint != model_fingerprint(env.model):
         notes.append("the compiled model differs from the one the demo was recorded with (physics fingerprint)")
     if meta.mujoco_version != mujoco.__version__:
         notes.append(f"recorded with MuJoCo {meta.mujoco_version}, running {mujoco.__version__}")
@@ -252,7 +239,6 @@ def _replay_in_env(
 ) -> ReplayedDemo:
     meta = demo.metadata
     model, data = env.model, env.data
-    _warn_versions(demo, env)
     if meta.seed is None:
         raise DemoError(f"demo {demo.uuid} has no reset seed: it cannot be replayed")
 
@@ -268,8 +254,10 @@ def _replay_in_env(
         converted.append(f"{describe_action_mode(meta.action_mode)}->{describe_action_mode(env.action_mode)}")
     tol = 0.0 if exact else float(default_tolerance(env.control_frequency) if tolerance is None else tolerance)
 
-    # Reset and prove the initial state.
+    # Reset and prove the initial state; the model is compared after the reset, which may
+    # move static props (a task's racks and pads are placed by moving their bodies).
     obs, info = env.reset(seed=int(meta.seed))
+    _warn_versions(demo, env)
     state0 = np.empty(mujoco.mj_stateSize(model, meta.initial_state_spec))
     mujoco.mj_getState(model, data, state0, meta.initial_state_spec)
     if state0.shape != demo.initial_state.shape or not np.array_equal(state0, demo.initial_state):
@@ -405,7 +393,7 @@ def _replay_in_env(
         action_mode=env.action_mode.to_dict(),
         action_names=list(env.action_layout.names),
         num_steps=episode,
-        model_fingerprint=_fingerprint(model),
+        model_fingerprint=model_fingerprint(model),
         bigym_version=bigym.__version__,
         mujoco_version=mujoco.__version__,
         extra={**meta.extra, "source_frequency": float(meta.frequency)},

@@ -13,7 +13,8 @@ turns them into base and arm joint targets with a whole-body mink IK
 Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.grasping` (pick, carry and place skills),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
-:mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks` (the task scripts),
+:mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks`,
+:mod:`~bigym.experts.move_plates` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -47,6 +48,7 @@ EXPERTS: dict[str, str] = {
     **{task: "bigym.experts.cupboards:CupboardExpert" for task in _CUPBOARDS},
     **{task: "bigym.experts.dishwasher:DishwasherExpert" for task in _DISHWASHER},
     "StackBlocks": "bigym.experts.stack_blocks:StackBlocksExpert",
+    "MovePlate": "bigym.experts.move_plates:MovePlateExpert",
 }
 
 

@@ -45,6 +45,7 @@ DATASET_TASKS = (
     "CupboardsOpenAll",
     "CupboardsCloseAll",
     "StackBlocks",
+    "MovePlate",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

@@ -34,6 +34,10 @@ TURN_SPEED = 1.0
 PEAK = 1.875  # peak over mean speed of a minimum-jerk movement
 #: how much of a walking leg overlaps the next (the corners are rounded, not stopped at)
 LEG_OVERLAP = 0.3
+#: how close (m) the pinch point comes to a thin object's grasp point before closing, and
+#: how long (s) a hand may take to get there
+SETTLE_DISTANCE = 0.008
+MAX_SETTLE = 0.5
 #: a gripper closed further than this holds nothing
 EMPTY_GRIP = 0.85
 #: orientation costs of a grasp, about the pinch axes: turning about the closing axis (y)
@@ -102,11 +106,14 @@ class GraspingExpert(Expert):
         lift: float = 0.12,
         via: Sequence[np.ndarray] | None = None,
         attempts: int = 3,
+        body: int | None = None,
     ) -> Generator[None, None, bool]:
         """Take an object from above and lift it ``lift`` metres; ``aim()`` gives the pinch
         point and the closing direction from the object as it lies now. A grasp that
         closes on nothing (the object slipped away or was missed) is tried again from
-        above, as a person would, up to ``attempts`` times. Returns whether it holds."""
+        above, as a person would, up to ``attempts`` times: it holds when the fingers
+        stopped short of closing, or, given the object's ``body`` (thin objects: the
+        fingers close almost fully on them), when they touch it. Returns whether it holds."""
         for attempt in range(attempts):
             self.note(f"pick {'LR'[side]}" + (f" again ({attempt})" if attempt else ""))
             point, closing = aim()
@@ -121,8 +128,13 @@ class GraspingExpert(Expert):
             yield from self.hesitate()
             end = self.move_hand(side, point, rotation, GRASP, spread=0.0, precision=0.004, speed=0.6, tremor=0.3)
             yield from self.until(end + 0.1)
+            if body is not None:  # a thin object is taken only once the fingers are round it
+                yield from self.settle(side, point, SETTLE_DISTANCE, MAX_SETTLE)
             yield from self.set_grip(side, 1.0, max_wait=0.8, min_wait=0.35)
-            holds = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
+            if body is None:
+                holds = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
+            else:
+                holds = self.in_hand(body)
             goal = (point if holds else self.hand_pose(side)[0]) + np.array([0.0, 0.0, lift if holds else 0.06])
             if holds:  # from now on the hand keeps the orientation it grasped with: the object turns with it
                 rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()
@@ -144,6 +156,15 @@ class GraspingExpert(Expert):
         rotation = yaw_matrix(yaw)
         origin = np.asarray(pinch_target, float) - rotation @ local
         return np.array([origin[0], origin[1], float(np.clip(origin[2], 0.6, STANDING_HEIGHT)), yaw])
+
+    def turned_rotation(self, side: int, body: int, orientation: np.ndarray | None) -> np.ndarray:
+        """The hand orientation that turns a held body level (``orientation`` None) or to
+        ``orientation``."""
+        if orientation is None:
+            return self.level_rotation(side, body)
+        hand = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3)
+        held = self.data.xmat[body].reshape(3, 3)
+        return np.asarray(orientation, float) @ held.T @ hand
 
     def level_rotation(self, side: int, body: int) -> np.ndarray:
         """The hand orientation that puts a held body level (its most vertical axis along
@@ -175,26 +196,63 @@ class GraspingExpert(Expert):
                 return True
         return False
 
-    def place(self, side: int, point: np.ndarray, body: int | None = None, sink: float = 0.015) -> Script:
+    def settle(self, side: int, point: np.ndarray, distance: float, max_wait: float) -> Script:
+        """Wait (at most ``max_wait`` s) until the hand's pinch point is within ``distance``."""
+        site = self.env.robot.pinch_site_ids[side]
+        end = self.time + max_wait
+        while self.time < end and float(np.linalg.norm(self.data.site_xpos[site] - point)) > distance:
+            yield
+
+    def in_hand(self, body: int) -> bool:
+        """Some gripper touches the body."""
+        data, model = self.data, self.model
+        grippers = self.env.robot.gripper_geom_ids
+        for index in range(data.ncon):
+            first, second = data.contact.geom[index]
+            if (model.geom_bodyid[first] == body and first not in grippers and second in grippers) or (
+                model.geom_bodyid[second] == body and second not in grippers and first in grippers
+            ):
+                return True
+        return False
+
+    def place(
+        self,
+        side: int,
+        point: np.ndarray,
+        body: int | None = None,
+        sink: float = 0.015,
+        level: bool = True,
+        orientation: np.ndarray | None = None,
+        feel: bool = True,
+    ) -> Script:
         """Put the held object down so that its origin (the pinch centre if ``body`` is
         None) ends at ``point``, open, and rise away. With ``body``, the hand goes on down
         slowly, up to ``sink`` metres past the point, until the object rests on something,
-        as a person feels it land, so that the opening fingers cannot drag it along."""
+        as a person feels it land, so that the opening fingers cannot drag it along; with
+        ``level``, the object is first turned level, or, given ``orientation`` (a rotation
+        matrix), turned to it (else it keeps how it is held). Without ``feel`` the object
+        is lowered to the point whatever it touches on the way (a plate sliding down
+        between a rack's holders)."""
         self.note(f"place {'LR'[side]}")
         _, rotation = self.hand_pose(side)
-        holding = body is not None and np.linalg.norm(self.held_offset(side, body)) < 0.08
-        if holding:  # bring it over the spot level, as a person straightens what they hold
-            rotation = self.level_rotation(side, body)
+        # held: close to the pinch (a block), or, for objects held far from their origin (a
+        # plate by its rim), touching the fingers
+        holding = body is not None and (
+            np.linalg.norm(self.held_offset(side, body)) < 0.08 if level else self.in_hand(body)
+        )
+        if holding and (level or orientation is not None):  # straighten it, as a person does
+            rotation = self.turned_rotation(side, body, orientation)
         above = point + np.array([0.0, 0.0, PRE_GRASP_HEIGHT * 0.8 + abs(self.human.jitter(0.02))])
         if holding:
             above = above + self.held_offset(side, body)
         end = self.move_hand(side, above, rotation, HOLD, correct=True, precision=0.02)
         yield from self.until(end)
         if holding:  # look again, now that the object hangs still over the spot
-            rotation = self.level_rotation(side, body)
+            if level or orientation is not None:
+                rotation = self.turned_rotation(side, body, orientation)
             point = point + self.held_offset(side, body)
         end = self.move_hand(side, point, rotation, HOLD, spread=0.0, precision=0.004, speed=0.5, tremor=0.3)
-        if body is None:
+        if body is None or not feel:
             yield from self.until(end + 0.15)
         else:
             while self.time < end and not self.touches_support(body):

@@ -316,3 +316,25 @@ def test_task_variant_is_recorded_and_rebuilt_on_replay():
     assert demo.metadata.success
     replayed = replay(demo)
     assert replayed.success.any()
+
+
+def test_a_task_that_places_static_props_at_reset_replays_without_a_model_warning():
+    """MovePlate moves its racks (static bodies, so the model itself) at every reset: the
+    model a demo was recorded with is the one reset(seed) gives, whatever the env did before."""
+    import warnings
+
+    from bigym.demonstrations import DemoVersionWarning, record_episode
+    from bigym.envs.move_plates import MovePlate
+    from bigym.policies import HoldPolicy
+
+    env = MovePlate(action_mode=JointPositionActionMode(absolute=True), control_frequency=50)
+    try:
+        demo = record_episode(env, HoldPolicy(env), seed=3, source="random", max_steps=5)
+        env.reset(seed=8)  # the racks move elsewhere
+        with warnings.catch_warnings():
+            warnings.simplefilter("error", DemoVersionWarning)
+            replayed = replay(demo, env=env, verify=True)
+        assert replayed.report.exact and replayed.report.checkpoints_checked >= 1
+        assert replayed.metadata.model_fingerprint == demo.metadata.model_fingerprint
+    finally:
+        env.close()

@@ -100,8 +100,8 @@ def test_generate_command_fills_a_store_and_stats_measures_it(tmp_path):
 
 
 def test_generate_and_stats_fail_clearly(tmp_path):
-    result = run("generate", "MovePlate", "-n", 1, "--store", tmp_path / "s")
-    assert result.exit_code == 1 and "no expert for MovePlate" in result.output
+    result = run("generate", "FlipCup", "-n", 1, "--store", tmp_path / "s")
+    assert result.exit_code == 1 and "no expert for FlipCup" in result.output
     result = run("generate", "NoSuchTask", "--store", tmp_path / "s")
     assert result.exit_code == 1 and "unknown task" in result.output
     result = run("stats", "DrawerTopOpen", "--store", tmp_path / "empty")
