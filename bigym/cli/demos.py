@@ -474,7 +474,7 @@ def record(
 @demos_app.command()
 @_handle_errors
 def generate(
-    task: Annotated[str, typer.Argument(help="Task with an expert: a reach, drawer, cupboard or dishwasher door/tray task.")],
+    task: Annotated[str, typer.Argument(help="Task with an expert (see bigym.experts.EXPERTS).")],
     n: Annotated[int, typer.Option("-n", "--n", min=1, help="Verified demos to keep.")] = 50,
     seed: Annotated[int, typer.Option(help="First seed; attempt k uses seed + k (env reset and demonstrator).")] = 0,
     workers: Annotated[int | None, typer.Option(min=1, help="Processes (default: CPU count, at most 8).")] = None,

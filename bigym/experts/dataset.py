@@ -256,10 +256,6 @@ def write_shipped_manifest(out: Path | str, tasks: tuple[str, ...] | None = None
     return path
 
 
-def _snake(name: str) -> str:
-    return "".join("_" + c.lower() if c.isupper() else c for c in name).lstrip("_")
-
-
 TABLE_HEADER = (
     "| task | generator success | build min | distinct plans (most common) | hand split L / R / both "
     "| duration s, cv | straightness | bell corr. | LDLJ |\n|---|---|---|---|---|---|---|---|---|"
@@ -272,6 +268,7 @@ def dataset_table(store, tasks: tuple[str, ...] | None = None, progress: bool = 
     store's demos next to the plain controller's on the same seeds (in brackets)."""
     from bigym.demonstrations.store import DemoStore
     from bigym.experts.stats import demo_stats
+    from bigym.task_docs import snake_case
 
     if not isinstance(store, DemoStore):
         store = DemoStore(store, version=DATASET_VERSION)
@@ -289,7 +286,7 @@ def dataset_table(store, tasks: tuple[str, ...] | None = None, progress: bool = 
         minutes = f"{built['build_seconds'] / 60:.1f}" if built else "-"
         split = " / ".join(f"{100 * d.hand_split.get(k, 0.0):.0f}" for k in ("left", "right", "both"))
         lines.append(
-            f"| {_snake(task)} | {success} | {minutes} | {d.plans} ({100 * d.top_plan_share:.0f}%) | {split} % "
+            f"| {snake_case(task)} | {success} | {minutes} | {d.plans} ({100 * d.top_plan_share:.0f}%) | {split} % "
             f"| {d.duration_mean:.1f}, {d.duration_cv:.2f} ({p.duration_mean:.1f}, {p.duration_cv:.2f}) "
             f"| {d.straightness:.2f} ({p.straightness:.2f}) | {d.bell_correlation:.2f} ({p.bell_correlation:.2f}) "
             f"| {d.ldlj:.1f} ({p.ldlj:.1f}) |"

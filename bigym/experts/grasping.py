@@ -38,6 +38,9 @@ LEG_OVERLAP = 0.3
 #: how long (s) a hand may take to get there
 SETTLE_DISTANCE = 0.008
 MAX_SETTLE = 0.5
+#: how far (m) the pelvis keeps from the edge of a table it works at: the hip collider's
+#: front is 0.05 ahead of it
+TABLE_CLEARANCE = 0.12
 #: a gripper closed further than this holds nothing
 EMPTY_GRIP = 0.85
 #: orientation costs of a grasp, about the pinch axes: turning about the closing axis (y)
@@ -63,6 +66,7 @@ class GraspingExpert(Expert):
     def start(self) -> None:
         #: per hand, the pinch pose in the base frame when it took what it holds
         self.grasp_pose: list[tuple[np.ndarray, np.ndarray] | None] = [None, None]
+        self._not_robot: np.ndarray | None = None  # geoms that are not the robot's (built on first use)
         super().start()
 
     # ------------------------------------------------------------------ geometry
@@ -106,14 +110,14 @@ class GraspingExpert(Expert):
         lift: float = 0.12,
         via: Sequence[np.ndarray] | None = None,
         attempts: int = 3,
-        body: int | None = None,
+        prop: str | None = None,
     ) -> Generator[None, None, bool]:
         """Take an object from above and lift it ``lift`` metres; ``aim()`` gives the pinch
         point and the closing direction from the object as it lies now. A grasp that
         closes on nothing (the object slipped away or was missed) is tried again from
         above, as a person would, up to ``attempts`` times: it holds when the fingers
-        stopped short of closing, or, given the object's ``body`` (thin objects: the
-        fingers close almost fully on them), when they touch it. Returns whether it holds."""
+        stopped short of closing, or, given the object's ``prop`` name (thin objects: the
+        fingers close almost fully on them), when the task sees it held. Returns whether it holds."""
         for attempt in range(attempts):
             self.note(f"pick {'LR'[side]}" + (f" again ({attempt})" if attempt else ""))
             point, closing = aim()
@@ -128,19 +132,19 @@ class GraspingExpert(Expert):
             yield from self.hesitate()
             end = self.move_hand(side, point, rotation, GRASP, spread=0.0, precision=0.004, speed=0.6, tremor=0.3)
             yield from self.until(end + 0.1)
-            if body is not None:  # a thin object is taken only once the fingers are round it
+            if prop is not None:  # a thin object is taken only once the fingers are round it
                 yield from self.settle(side, point, SETTLE_DISTANCE, MAX_SETTLE)
             yield from self.set_grip(side, 1.0, max_wait=0.8, min_wait=0.35)
-            if body is None:
+            if prop is None:
                 holds = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
             else:
-                holds = self.in_hand(body)
+                holds = self.env.held(prop)
             goal = (point if holds else self.hand_pose(side)[0]) + np.array([0.0, 0.0, lift if holds else 0.06])
             if holds:  # from now on the hand keeps the orientation it grasped with: the object turns with it
                 rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()
                 pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]].copy()
                 self.grasp_pose[side] = _to_base(self.commanded_base(), pinch, rotation)
-            if not holds:
+            else:
                 self.grip[side] = 0.0
             end = self.move_hand(side, goal, rotation, HOLD if holds else GRASP, spread=0.2, tremor=0.5)
             yield from self.until(end)
@@ -184,17 +188,13 @@ class GraspingExpert(Expert):
         object sits in the hand, as a person sees it."""
         return self.data.site_xpos[self.env.robot.pinch_site_ids[side]] - self.data.xpos[body]
 
-    def touches_support(self, body: int) -> bool:
-        """The body touches something that is not the robot (what it is put down on)."""
-        data, model = self.data, self.model
-        robot_root = model.body_rootid[self.env.robot.pelvis_id]
-        for index in range(data.ncon):
-            first, second = (model.geom_bodyid[g] for g in data.contact.geom[index])
-            if first == body and model.body_rootid[second] != robot_root:
-                return True
-            if second == body and model.body_rootid[first] != robot_root:
-                return True
-        return False
+    def touches_support(self, prop: str) -> bool:
+        """The prop touches something that is not the robot (what it is put down on)."""
+        if self._not_robot is None:
+            model = self.model
+            robot_root = model.body_rootid[self.env.robot.pelvis_id]
+            self._not_robot = model.body_rootid[model.geom_bodyid] != robot_root
+        return self.env.touching(self.env.mask(prop), self._not_robot)
 
     def settle(self, side: int, point: np.ndarray, distance: float, max_wait: float) -> Script:
         """Wait (at most ``max_wait`` s) until the hand's pinch point is within ``distance``."""
@@ -203,30 +203,18 @@ class GraspingExpert(Expert):
         while self.time < end and float(np.linalg.norm(self.data.site_xpos[site] - point)) > distance:
             yield
 
-    def in_hand(self, body: int) -> bool:
-        """Some gripper touches the body."""
-        data, model = self.data, self.model
-        grippers = self.env.robot.gripper_geom_ids
-        for index in range(data.ncon):
-            first, second = data.contact.geom[index]
-            if (model.geom_bodyid[first] == body and first not in grippers and second in grippers) or (
-                model.geom_bodyid[second] == body and second not in grippers and first in grippers
-            ):
-                return True
-        return False
-
     def place(
         self,
         side: int,
         point: np.ndarray,
-        body: int | None = None,
+        prop: str | None = None,
         sink: float = 0.015,
         level: bool = True,
         orientation: np.ndarray | None = None,
         feel: bool = True,
     ) -> Script:
-        """Put the held object down so that its origin (the pinch centre if ``body`` is
-        None) ends at ``point``, open, and rise away. With ``body``, the hand goes on down
+        """Put the held object down so that its origin (the pinch centre if ``prop`` is
+        None) ends at ``point``, open, and rise away. With ``prop``, the hand goes on down
         slowly, up to ``sink`` metres past the point, until the object rests on something,
         as a person feels it land, so that the opening fingers cannot drag it along; with
         ``level``, the object is first turned level, or, given ``orientation`` (a rotation
@@ -235,10 +223,11 @@ class GraspingExpert(Expert):
         between a rack's holders)."""
         self.note(f"place {'LR'[side]}")
         _, rotation = self.hand_pose(side)
+        body = None if prop is None else self.env.props[prop].root_body_id
         # held: close to the pinch (a block), or, for objects held far from their origin (a
-        # plate by its rim), touching the fingers
+        # plate by its rim), held as the task sees it
         holding = body is not None and (
-            np.linalg.norm(self.held_offset(side, body)) < 0.08 if level else self.in_hand(body)
+            np.linalg.norm(self.held_offset(side, body)) < 0.08 if level else self.env.held(prop)
         )
         if holding and (level or orientation is not None):  # straighten it, as a person does
             rotation = self.turned_rotation(side, body, orientation)
@@ -252,16 +241,16 @@ class GraspingExpert(Expert):
                 rotation = self.turned_rotation(side, body, orientation)
             point = point + self.held_offset(side, body)
         end = self.move_hand(side, point, rotation, HOLD, spread=0.0, precision=0.004, speed=0.5, tremor=0.3)
-        if body is None or not feel:
+        if prop is None or not feel:
             yield from self.until(end + 0.15)
         else:
-            while self.time < end and not self.touches_support(body):
+            while self.time < end and not self.touches_support(prop):
                 yield
-            if not self.touches_support(body):
+            if not self.touches_support(prop):
                 end = self.move_hand(
                     side, point - np.array([0.0, 0.0, sink]), rotation, HOLD, duration=0.6, spread=0.0, tremor=0.2
                 )
-                while self.time < end and not self.touches_support(body):
+                while self.time < end and not self.touches_support(prop):
                     yield
             self.hold_hand(side, HOLD, tremor=0.2)
             yield from self.wait(0.1)

@@ -17,10 +17,9 @@ import numpy as np
 
 from bigym.envs.move_plates import PLATE_IN_SLOT_OFFSET
 from bigym.experts.expert import LEFT, RIGHT, Script
-from bigym.experts.grasping import HOLD, GraspingExpert
+from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
 
 TABLE_FRONT = 0.4  # x of the table's front edge
-WORK_CLEARANCE = 0.12
 #: the fingers close this far (m) below the top of the rim
 RIM_DEPTH = 0.022
 #: how high (m) a plate is lifted out of its slot: above the rack's holders
@@ -51,7 +50,7 @@ class MovePlateExpert(GraspingExpert):
         base = self.commanded_base()
         lateral = 0.18 if side == LEFT else -0.18
         stance = np.array(
-            [TABLE_FRONT - WORK_CLEARANCE - abs(self.human.jitter(0.02)), start_xy[1] - lateral + self.human.jitter(0.03),
+            [TABLE_FRONT - TABLE_CLEARANCE - abs(self.human.jitter(0.02)), start_xy[1] - lateral + self.human.jitter(0.03),
              base[2], self.human.jitter(0.05)]
         )  # fmt: skip
         self.move_base(stance)  # steps up to the rack while the hand reaches out
@@ -80,7 +79,7 @@ class MovePlateExpert(GraspingExpert):
             point = centre + up * (radius - RIM_DEPTH) + along * self.human.jitter(0.012)
             return point, normal
 
-        if not (yield from self.pick(side, aim, lift=LIFT + abs(self.human.jitter(0.01)), body=body)):
+        if not (yield from self.pick(side, aim, lift=LIFT + abs(self.human.jitter(0.01)), prop=plate)):
             self.note(f"gave up on {plate}")
             while True:
                 yield
@@ -89,10 +88,9 @@ class MovePlateExpert(GraspingExpert):
     def put_in_slot(self, side: int, plate: str, slot: str) -> Script:
         """Lower the plate into ``slot`` standing as it stood in its first slot."""
         env = self.env
-        body = env.props[plate].root_body_id
         # a plate stands in a slot as the task puts it in at the start (the drainers are not rotated)
         goal = self.site_of(env.props["drainer_target"], slot) + PLATE_IN_SLOT_OFFSET
-        yield from self.place(side, goal, body=body, level=False, orientation=self._initial_rotation[plate], feel=False)
+        yield from self.place(side, goal, prop=plate, level=False, orientation=self._initial_rotation[plate], feel=False)
 
     def site_of(self, prop, key: str) -> np.ndarray:
         return self.data.site_xpos[prop.site_id(key)].copy()

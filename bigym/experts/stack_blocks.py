@@ -17,16 +17,14 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.experts.expert import LEFT, RIGHT, Script
-from bigym.experts.grasping import HOLD, GraspingExpert
+from bigym.envs.manipulation import TABLE_TOP
+from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
 
 NEAR_TABLE_FRONT = 0.4  # x of the near table's front edge
 FAR_TABLE_BACK = 1.7  # x of the far table's back edge
 TABLE_HALF_WIDTH = 0.6
-#: how far the pelvis keeps from a table edge it works at (the hip collider's front is 0.05
-#: ahead of it), and from the side it walks past
-WORK_CLEARANCE = 0.12
+#: how far the pelvis keeps from the side of the tables it walks past
 WALK_CLEARANCE = 0.38
-TABLE_TOP = 0.95
 PAD_THICKNESS = 0.002
 
 
@@ -95,7 +93,7 @@ class StackBlocksExpert(GraspingExpert):
         yaw = turn + self.human.jitter(0.04)
         stance = np.array(
             [
-                NEAR_TABLE_FRONT - WORK_CLEARANCE - abs(self.human.jitter(0.02)),
+                NEAR_TABLE_FRONT - TABLE_CLEARANCE - abs(self.human.jitter(0.02)),
                 block[1] - lateral * np.cos(yaw) + self.human.jitter(0.04),  # the shoulder in line with the block
                 base[2],
                 yaw,
@@ -119,13 +117,13 @@ class StackBlocksExpert(GraspingExpert):
         base = self.commanded_base()
         z = base[2]
         lane = sign * (TABLE_HALF_WIDTH + WALK_CLEARANCE + abs(self.human.jitter(0.04)))
-        near_x = NEAR_TABLE_FRONT - WORK_CLEARANCE - 0.05
+        near_x = NEAR_TABLE_FRONT - TABLE_CLEARANCE - 0.05
         far_x = FAR_TABLE_BACK + WALK_CLEARANCE
         if to_far:
             route = [
                 (near_x + self.human.jitter(0.03), lane, z, sign * 0.3 * np.pi),
                 (far_x + self.human.jitter(0.03), lane, z, sign * 0.6 * np.pi),
-                (FAR_TABLE_BACK + WORK_CLEARANCE + abs(self.human.jitter(0.02)), pad[1] + self.human.jitter(0.03), z,
+                (FAR_TABLE_BACK + TABLE_CLEARANCE + abs(self.human.jitter(0.02)), pad[1] + self.human.jitter(0.03), z,
                  sign * np.pi + self.human.jitter(self.style.stance_yaw_spread * 0.5)),
             ]  # fmt: skip
         else:
@@ -145,12 +143,12 @@ class StackBlocksExpert(GraspingExpert):
         target = np.array([under[0], under[1], centre_z]) + self.human.jitter(0.003, 3) * np.array([1.0, 1.0, 0.0])
         base = self.commanded_base()
         stance = self.stance_for(side, target + self.held_offset(side, body), base[3])
-        stance[0] = max(stance[0], FAR_TABLE_BACK + WORK_CLEARANCE)  # never into the table
+        stance[0] = max(stance[0], FAR_TABLE_BACK + TABLE_CLEARANCE)  # never into the table
         stance[2] = base[2]
         carrying = [s for s in (LEFT, RIGHT) if self.grip[s] > 0.5]
         if np.linalg.norm(stance[:2] - base[:2]) > 0.02:
             yield from self.walk([stance], carrying=carrying)
-        yield from self.place(side, target, body=body)
+        yield from self.place(side, target, prop=name)
         self.stack.append(name)
 
 
