@@ -12,9 +12,10 @@ turns them into base and arm joint targets with a whole-body mink IK
 
 Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.grasping` (pick, carry and place skills),
+:mod:`~bigym.experts.doors` (open and close hinged doors),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
 :mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks`,
-:mod:`~bigym.experts.move_plates` (the task scripts),
+:mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -49,6 +50,7 @@ EXPERTS: dict[str, str] = {
     **{task: "bigym.experts.dishwasher:DishwasherExpert" for task in _DISHWASHER},
     "StackBlocks": "bigym.experts.stack_blocks:StackBlocksExpert",
     "MovePlate": "bigym.experts.move_plates:MovePlateExpert",
+    "SaucepanToHob": "bigym.experts.cookware:CookwareExpert",
 }
 
 

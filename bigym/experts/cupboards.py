@@ -4,10 +4,7 @@ How a person does it, and so how these scripts do it:
 
 * a drawer opens by its handle (fingers around the bar, pull, step back) and closes
   with a push of the fist on its handle bar;
-* a hinged door opens by its handle only part of the way (the hand cannot follow the
-  handle round a quarter turn); the hand then lets go, takes the door by its free
-  edge and swings it fully open. Closing goes the other way round: take the open
-  door by its edge, swing it most of the way, then push the handle bar home.
+* a hinged door is opened and closed as :mod:`bigym.experts.doors` does it.
 
 Choices drawn per demo: the hand for each drawer or door (for the wall cupboard also
 both hands at once, one per door), the order of the jobs (drawers are opened from the
@@ -20,30 +17,21 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-import mujoco
 import numpy as np
 
-from bigym.experts.expert import FIRM, LEFT, RIGHT, Expert, Script
+from bigym.experts.doors import DONE_MARGIN, OVERSHOOT, DoorSkills
+from bigym.experts.expert import FIRM, LEFT, RIGHT, Script
 
 DRAWERS_PROP = "cabinet_drawers"
 DRAWER_ORDER = ("drawer_big_1", "drawer_small_3", "drawer_small_4")  # bottom to top
 WALL_PROP = "wall_cabinet"
 #: how close the pelvis may come to the counter's front (m): the feet stay in front of it
 BASE_CLEARANCE = 0.3
-#: a joint this close to its goal is done (the task's tolerance is 0.1)
-DONE_MARGIN = 0.06
-#: pushes aim this far (normalised) past the goal, into the joint's stop
-OVERSHOOT = 0.04
-#: a base-cabinet door's width (m) and how far (m) the pelvis keeps out of its sweep
-DOOR_WIDTH = 0.6
-SWEEP_CLEARANCE = 0.25
 #: how often a base-cabinet door is pushed shut with the hand away from its free edge
 FAR_HAND_PROBABILITY = 0.15
-#: orientation costs while taking a door's upright handle (the yaw about the bar is held too)
-HANDLE_ALIGN = np.array([1.5, 0.8, 2.0])
 
 
-class CupboardExpert(Expert):
+class CupboardExpert(DoorSkills):
     """Opens and closes the drawers and doors of the counter scene."""
 
     tasks = (
@@ -119,48 +107,6 @@ class CupboardExpert(Expert):
         self._note_hand(job, side)
         return side
 
-    def door_side(self, prop: str, key: str) -> int:
-        """The hand on the door's free-edge side is the natural one for a base-cabinet door."""
-        p = self.env.props[prop]
-        hinge = self.data.xanchor[p.joint_ids[p.joint_index(key)]]
-        centre = self.data.xpos[p.root_body_id]
-        left = np.cross([0.0, 0.0, 1.0], self.module_facing(prop))
-        return LEFT if (hinge - centre) @ left > 0.0 else RIGHT
-
-    def module_facing(self, prop: str) -> np.ndarray:
-        """Direction a person faces when working at a module: into its front (local +x)."""
-        frame = self.data.xmat[self.env.props[prop].root_body_id].reshape(3, 3)
-        return frame[:, 0].copy()
-
-    def door_edge(self, prop: str, key: str, height: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """``(point, edge direction out of the door, front normal)`` of a door's free edge.
-
-        The point is mid-way through the panel's thickness at world height ``height``;
-        the edge direction points from the hinge towards the free edge.
-        """
-        p = self.env.props[prop]
-        site = p.site_id(f"{key}_handle")
-        body = int(self.model.site_bodyid[site])
-        handle_local = self.model.site_pos[site]
-        sign = 1.0 if handle_local[1] > 0 else -1.0
-        panel = max(
-            (
-                g
-                for g in range(self.model.ngeom)
-                if self.model.geom_bodyid[g] == body and self.model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX
-            ),
-            key=lambda g: float(np.prod(self.model.geom_size[g])),
-        )
-        centre, half = self.model.geom_pos[panel], self.model.geom_size[panel]
-        frame = self.data.xmat[body].reshape(3, 3)
-        origin = self.data.xpos[body]
-        local = np.array([centre[0], centre[1] + sign * half[1], 0.0])
-        point = origin + frame @ local
-        # on the panel, a hand's breadth from its top and bottom
-        low, high = origin[2] + centre[2] - half[2] + 0.06, origin[2] + centre[2] + half[2] - 0.07
-        point[2] = float(np.clip(height, low, high))
-        return point, frame[:, 1] * sign, -frame[:, 0]
-
     # ------------------------------------------------------------------ drawers
     def drawer(self, key: str, goal: float, attempts: int = 3) -> Script:
         """Open a drawer by its handle, or close it by pushing its handle bar with a fist;
@@ -202,135 +148,6 @@ class CupboardExpert(Expert):
             if done:
                 relaxed = self.relax_arm(side)
                 yield from self.until(self.time + 0.6 * (relaxed - self.time))
-
-    # ------------------------------------------------------------------ doors
-    def door(self, side: int, prop: str, key: str, goal: float, base: bool = True, attempts: int = 3) -> Script:
-        """Open or close one hinged door with one hand.
-
-        Opening: pull the handle part of the way, let go, and push the door's inner face
-        round to fully open. Closing: push the outer face near the free edge round to
-        shut. A door that did not get there gets another push (a correction).
-        ``base=False``: the base stays where it is (the other hand may be busy too).
-        """
-        follow = 0.4 if base else 0.0
-        switch = float(np.clip(self.rng.normal(0.5, 0.05), 0.4, 0.6))
-        keep_out = self.keep_out_of_sweep(prop, key) if base else None
-        try:
-            yield from self._door_attempts(side, prop, key, goal, base, follow, switch, attempts)
-        finally:
-            if keep_out is not None:
-                planes = self.ik.base_region.planes
-                planes[:] = [plane for plane in planes if plane is not keep_out]
-
-    def keep_out_of_sweep(self, prop: str, key: str) -> tuple[np.ndarray, float] | None:
-        """Keep the base out of a low door's sweep (the door would hit the robot): a
-        half-plane tangent to the sweep circle, on the robot's side of the hinge."""
-        if self.site(prop, f"{key}_handle")[2] > 1.2:
-            return None  # a wall-cupboard door swings above the robot's body
-        p = self.env.props[prop]
-        hinge = self.data.xanchor[p.joint_ids[p.joint_index(key)]][:2].copy()
-        facing = self.module_facing(prop)[:2]
-        inward = self.data.xpos[p.root_body_id][:2] - hinge  # towards the module's middle
-        inward -= facing * (inward @ facing)
-        inward /= np.linalg.norm(inward)
-        # the tangent half-plane on the bisector of the sweep's two edges (the closed door
-        # and the fully open one): in front of the sweep, where the robot works from
-        away = inward - facing
-        away /= np.linalg.norm(away)
-        radius = DOOR_WIDTH + SWEEP_CLEARANCE
-        plane = (-away, float(-(away @ hinge) - radius))
-        self.ik.base_region.planes.append(plane)
-        return plane
-
-    def _door_attempts(self, side, prop, key, goal, base, follow, switch, attempts) -> Script:
-        for attempt in range(attempts):
-            state = self.joint_state(prop, key)
-            if abs(state - goal) < DONE_MARGIN:
-                return
-            if attempt:
-                self.note(f"correct {prop}/{key} at {state:.2f}")
-            if goal > 0.5:
-                if state < 0.3:
-                    yield from self.grasp_handle(side, prop, key, base=base)
-                    yield from self.drag([side], prop, key, switch, base_follow=follow, orientation_cost=FIRM * 0.4)
-                    yield from self.release(side, back=0.05)
-                direction = yield from self.press_door(side, prop, key, inner=True, base=base)
-                yield from self.drag(
-                    [side], prop, key, 1.0 + 2.5 * OVERSHOOT, base_follow=follow, orientation_cost=FIRM * 0.3
-                )
-            else:
-                direction = yield from self.press_door(side, prop, key, inner=False, base=base)
-                yield from self.drag(
-                    [side], prop, key, -2.5 * OVERSHOOT, base_follow=follow, orientation_cost=FIRM * 0.3
-                )
-            done = abs(self.joint_state(prop, key) - goal) < DONE_MARGIN
-            yield from self.release(side, back=0.08, away=-direction, relax=done)
-
-    def press_door(self, side: int, prop: str, key: str, inner: bool, base: bool = True) -> Script:
-        """A fist against a door near its free edge: on the inner face to push it open,
-        on the outer face to push it shut. Returns the push direction."""
-        handle = self.site(prop, f"{key}_handle")
-        height = handle[2] + 0.05 + abs(self.human.jitter(0.03))
-        edge, out, front = self.door_edge(prop, key, height)
-        inset = 0.05 + abs(self.human.jitter(0.02))
-        facing = self.module_facing(prop)
-        if inner:
-            point, direction = edge - out * inset - front * 0.01, front
-        else:
-            point, direction = edge - out * inset + front * 0.01, -front
-        # the fingers lean from the push direction towards the furniture
-        fingers = direction + (0.4 + abs(self.human.jitter(0.1))) * facing
-        hand, _ = self.hand_pose(side)
-        via = None
-        side_now = float(np.sign((hand - edge) @ front))
-        if (side_now > 0.0) == inner:  # on the other side: round the free edge, well clear of it
-            clear = 0.15 + abs(self.human.jitter(0.02))
-            up = np.array([0.0, 0.0, 0.02])
-            via = [edge + out * clear + side_now * front * 0.06 + up, edge + out * clear - side_now * front * 0.1 + up]
-        stance = None
-        if base:
-            distance = 0.45 if handle[2] < 1.2 else (0.62 if inner else 0.5)
-            stance = self.stance(side, point, facing, distance=distance, lateral=0.15)
-        yield from self.press(
-            side, point, direction, base_goal=stance, via=via, fingers=fingers, contact=0.016, depth=0.012
-        )
-        return direction
-
-    def grasp_handle(self, side: int, prop: str, key: str, base: bool = True) -> Script:
-        centre, bar, approach = self.handle_frame(prop, f"{key}_handle", "z")
-        facing = self.module_facing(prop)
-        distance = 0.4 if centre[2] < 1.2 else 0.66  # a high handle is reached from further back
-        stance = self.stance(side, centre, facing, distance=distance, lateral=0.18) if base else None
-        offset = self.human.jitter(0.02)
-        # a door's handle stands only 3.5 cm off the door: the fingers come in square to it
-        yield from self.grasp_bar(
-            side,
-            centre,
-            bar,
-            approach,
-            tilt=self.human.jitter(self.style.approach_spread * 0.5),
-            offset=offset,
-            base_goal=stance,
-            depth=0.0,
-            align=HANDLE_ALIGN,
-        )
-
-    def grasp_edge(self, side: int, prop: str, key: str, base: bool = True) -> Script:
-        handle = self.site(prop, f"{key}_handle")
-        height = handle[2] + 0.05 + abs(self.human.jitter(0.03))
-        point, out, front = self.door_edge(prop, key, height)
-        approach = -out
-        facing = self.module_facing(prop)
-        facing = facing + 0.35 * (approach - facing)
-        stance = self.stance(side, point, facing, distance=0.45, lateral=0.15) if base else None
-        # round the free edge on the front side, never through the door
-        hand, _ = self.hand_pose(side)
-        via = None
-        if (hand - point) @ front > -0.01:
-            via = [point + out * 0.1 + front * 0.06 + np.array([0.0, 0.0, 0.02])]
-        yield from self.grasp_bar(
-            side, point, np.array([0.0, 0.0, 1.0]), approach, depth=0.012, base_goal=stance, via=via
-        )
 
     def _after(self, delay: float, script: Script) -> Script:
         yield from self.wait(delay)

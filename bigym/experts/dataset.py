@@ -46,6 +46,7 @@ DATASET_TASKS = (
     "CupboardsCloseAll",
     "StackBlocks",
     "MovePlate",
+    "SaucepanToHob",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

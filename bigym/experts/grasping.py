@@ -31,6 +31,8 @@ PRE_GRASP_HEIGHT = 0.1
 #: walking and turning speeds (m/s, rad/s) a leg's peak stays under: below the IK's base limits
 WALK_SPEED = 0.7
 TURN_SPEED = 1.0
+#: how fast (m/s) the pelvis goes down or up at most while walking (crouching with a load)
+CROUCH_SPEED = 0.5
 PEAK = 1.875  # peak over mean speed of a minimum-jerk movement
 #: how much of a walking leg overlaps the next (the corners are rounded, not stopped at)
 LEG_OVERLAP = 0.3
@@ -84,7 +86,9 @@ class GraspingExpert(Expert):
         approach = np.cos(tilt) * ahead + np.sin(tilt) * DOWN
         return frame_from_axes(np.cross(y, approach), approach)
 
-    def face_closing(self, side: int, object_yaw: float, faces: int = 4, facing_yaw: float | None = None) -> tuple[np.ndarray, float]:
+    def face_closing(
+        self, side: int, object_yaw: float, faces: int = 4, facing_yaw: float | None = None
+    ) -> tuple[np.ndarray, float]:
         """The closing direction for an object with ``faces`` symmetric faces (normals at
         yaw + k 2 pi / faces) nearest the middle of ``side``'s comfortable range, for the
         body facing ``facing_yaw`` (default: as it stands); and how far (rad) the body
@@ -126,7 +130,14 @@ class GraspingExpert(Expert):
             above = point - approach * (PRE_GRASP_HEIGHT + abs(self.human.jitter(0.02)))
             self.grip[side] = 0.0
             end = self.move_hand(
-                side, above, rotation, GRASP, lift=0.05, correct=not attempt, precision=0.03, via=None if attempt else via
+                side,
+                above,
+                rotation,
+                GRASP,
+                lift=0.05,
+                correct=not attempt,
+                precision=0.03,
+                via=None if attempt else via,
             )
             yield from self.until(end)
             yield from self.hesitate()
@@ -143,7 +154,7 @@ class GraspingExpert(Expert):
             if holds:  # from now on the hand keeps the orientation it grasped with: the object turns with it
                 rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()
                 pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]].copy()
-                self.grasp_pose[side] = _to_base(self.commanded_base(), pinch, rotation)
+                self.grasp_pose[side] = to_base(self.commanded_base(), pinch, rotation)
             else:
                 self.grip[side] = 0.0
             end = self.move_hand(side, goal, rotation, HOLD if holds else GRASP, spread=0.2, tremor=0.5)
@@ -271,11 +282,11 @@ class GraspingExpert(Expert):
         b0 = self.commanded_base()
         for side in carrying:
             p, r = self.hand_pose(side)
-            local_p, local_r = _to_base(b0, p, r)
+            local_p, local_r = to_base(b0, p, r)
             cost = self.hands[side].orientation_cost if self.hands[side] is not None else CARRY
             self.hands[side] = HandReference(
-                (lambda t, lp=local_p: _from_base(self.base_ref(t), lp, None)[0]),
-                (lambda t, lr=local_r: _from_base(self.base_ref(t), None, lr)[1]),
+                (lambda t, lp=local_p: from_base(self.base_ref(t), lp, None)[0]),
+                (lambda t, lr=local_r: from_base(self.base_ref(t), None, lr)[1]),
                 cost,
                 tremor=0.5,
             )
@@ -289,7 +300,10 @@ class GraspingExpert(Expert):
             jitter = float(np.exp(self.human.jitter(self.style.movement_jitter)))
             duration = (0.4 + 1.1 * (distance + 0.3 * turn)) * jitter * self.style.slowness / (self.human.speed * speed)
             # a minimum-jerk leg peaks at 1.875 x its mean speed: stay within what the base can do
-            duration = max(duration, PEAK * distance / WALK_SPEED, PEAK * turn / TURN_SPEED, 0.05)
+            rise = abs(float(b[2] - start[2]))
+            duration = max(
+                duration, PEAK * distance / WALK_SPEED, PEAK * turn / TURN_SPEED, PEAK * rise / CROUCH_SPEED, 0.05
+            )
             if legs:
                 t -= LEG_OVERLAP * min(duration, legs[-1][1])
             legs.append((t, duration, b - start))
@@ -310,13 +324,13 @@ class GraspingExpert(Expert):
             self.hold_hand(side, self.hands[side].orientation_cost, tremor=0.5)
 
 
-def _to_base(base: np.ndarray, p: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+def to_base(base: np.ndarray, p: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     rotation = yaw_matrix(base[3])
     origin = np.array([base[0], base[1], base[2]])
     return rotation.T @ (p - origin), rotation.T @ r
 
 
-def _from_base(base: np.ndarray, p: np.ndarray | None, r: np.ndarray | None) -> tuple:
+def from_base(base: np.ndarray, p: np.ndarray | None, r: np.ndarray | None) -> tuple:
     rotation = yaw_matrix(base[3])
     origin = np.array([base[0], base[1], base[2]])
     return (None if p is None else rotation @ p + origin), (None if r is None else rotation @ r)

@@ -16,8 +16,8 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.expert import LEFT, RIGHT, Script
 from bigym.envs.manipulation import TABLE_TOP
+from bigym.experts.expert import LEFT, RIGHT, Script
 from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
 
 NEAR_TABLE_FRONT = 0.4  # x of the near table's front edge

@@ -8,8 +8,9 @@ module measures, from the wrist trajectories:
 * **hand split**: how often the left, the right or both hands do the work (the hand
   whose wrist moves most relative to the pelvis; both when the other moves at least
   60% as much);
-* **plans**: how many distinct plans (which hand does each job, in which order: the
-  expert's recorded choices) the episodes follow, and the share of the most common one;
+* **plans**: how many distinct plans (every discrete choice the expert recorded: which
+  hand does each job, in which order, which slot, burner or route) the episodes follow,
+  and the share of the most common one;
 * **duration**: mean, standard deviation and coefficient of variation;
 * **path straightness**: per hand movement (a stretch where the active wrist moves
   faster than 5 cm/s for at least 0.2 s), path length over straight distance (1 =
@@ -51,7 +52,7 @@ class Trajectory:
     rate: float
     duration: float
     success: bool = True
-    plan: str = ""  # the expert's discrete choices (hands, order), canonical JSON
+    plan: str = ""  # the expert's discrete choices, canonical JSON
 
 
 @dataclass
@@ -78,7 +79,7 @@ class Figures:
         return [
             ("episodes", f"{self.count}"),
             ("hand split", split),
-            ("distinct plans (hands, order)", f"{self.plans} (most common {100 * self.top_plan_share:.0f}%)"),
+            ("distinct plans (discrete choices)", f"{self.plans} (most common {100 * self.top_plan_share:.0f}%)"),
             ("duration (s)", f"{self.duration_mean:.2f} ± {self.duration_std:.2f} (cv {self.duration_cv:.2f})"),
             ("path length / straight distance", f"{self.straightness:.3f}"),
             ("bell-shaped speed (corr.)", f"{self.bell_correlation:.2f}"),
@@ -136,9 +137,14 @@ def _sample(env, wrists: list, local: list) -> None:
 
 
 def plan_key(choices: dict | None) -> str:
-    """The discrete part of an expert's choices (which hand, which order) as one string."""
-    choices = choices or {}
-    return json.dumps({k: choices[k] for k in ("hands", "order") if k in choices}, sort_keys=True)
+    """An expert's discrete choices (hands, order, slot, burner, route: every choice it
+    records as a name or a list of names; numbers are not plans) as one string."""
+    discrete = {
+        key: value
+        for key, value in (choices or {}).items()
+        if isinstance(value, str) or (isinstance(value, list) and all(isinstance(v, str) for v in value))
+    }
+    return json.dumps(discrete, sort_keys=True)
 
 
 def replay_trajectory(demo, env=None) -> Trajectory:

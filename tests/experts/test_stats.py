@@ -56,9 +56,10 @@ def test_plans_count_the_distinct_discrete_choices():
         plan_key({"hands": ["door:left"], "order": ["door"], "stance": 0.3}),
         plan_key({"order": ["door"], "hands": ["door:left"], "stance": 0.7}),  # same plan
         plan_key({"hands": ["door:right"], "order": ["door"]}),
+        plan_key({"hands": ["door:left"], "order": ["door"], "burner": "hob_site_2"}),  # another target
     ]
-    assert keys[0] == keys[1] != keys[2]
+    assert keys[0] == keys[1] != keys[2] != keys[3] != keys[0]
     trajectories = [_trajectory(_reach(tau), still, plan=key) for key in keys]
     figures = measure(trajectories, "set")
-    assert figures.plans == 2
-    assert figures.top_plan_share == pytest.approx(2 / 3)
+    assert figures.plans == 3
+    assert figures.top_plan_share == pytest.approx(2 / 4)
