@@ -51,6 +51,7 @@ EXPERTS: dict[str, str] = {
     "StackBlocks": "bigym.experts.stack_blocks:StackBlocksExpert",
     "MovePlate": "bigym.experts.move_plates:MovePlateExpert",
     "SaucepanToHob": "bigym.experts.cookware:CookwareExpert",
+    "StoreKitchenware": "bigym.experts.cookware:CookwareExpert",
 }
 
 

@@ -47,6 +47,7 @@ DATASET_TASKS = (
     "StackBlocks",
     "MovePlate",
     "SaucepanToHob",
+    "StoreKitchenware",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

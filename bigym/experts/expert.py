@@ -542,13 +542,15 @@ class Expert:
         close: bool = True,
         via: Sequence[np.ndarray] | None = None,
         align: np.ndarray = ALIGN_BAR,
+        opening: float = 0.0,
     ) -> Script:
         """Reach a bar handle, straddle it with the open fingers, and close them.
 
         ``tilt`` rotates the approach about the bar (e.g. from above for a low handle),
         ``offset`` slides the grasp along the bar. The hand first goes to a pre-grasp
         point in front of the bar (a free minimum-jerk movement, maybe with a
-        correction), then slides in slowly.
+        correction), then slides in slowly. ``opening`` pre-closes the fingers that far (0 =
+        wide open), as a hand shapes itself to a thin handle near a surface.
         """
         self.note(f"reach bar {'LR'[side]}")
         approach = axis_angle_matrix(bar_axis, tilt) @ approach
@@ -556,7 +558,7 @@ class Expert:
         grasp = centre + bar_axis * offset + approach * depth
         standoff = 0.09 + abs(self.human.jitter(0.02))
         pre = grasp - approach * standoff + self.human.jitter(0.006, 3)
-        self.grip[side] = 0.0
+        self.grip[side] = opening
         if via is None:
             # come in along the approach, from in front of the furniture
             hand, _ = self.hand_pose(side)

@@ -32,7 +32,7 @@ PRE_GRASP_HEIGHT = 0.1
 WALK_SPEED = 0.7
 TURN_SPEED = 1.0
 #: how fast (m/s) the pelvis goes down or up at most while walking (crouching with a load)
-CROUCH_SPEED = 0.5
+CROUCH_SPEED = 0.35
 PEAK = 1.875  # peak over mean speed of a minimum-jerk movement
 #: how much of a walking leg overlaps the next (the corners are rounded, not stopped at)
 LEG_OVERLAP = 0.3
@@ -49,6 +49,10 @@ EMPTY_GRIP = 0.85
 #: only tilts the approach and is left almost free; turning about the other two moves the
 #: closing direction off the object's face normal
 GRASP = np.array([2.0, 0.1, 2.0])
+#: a put-down object lies flat within this (rad) of level; an edge-first one is lowered
+#: the rest of the way at this speed (m/s)
+FLAT = np.deg2rad(4.0)
+LOWER_SPEED = 0.08
 #: orientation costs while holding an object: it turns with the hand, about every axis
 HOLD = np.array([2.0, 1.0, 2.0])
 #: orientation costs while carrying: the object stays level
@@ -223,6 +227,7 @@ class GraspingExpert(Expert):
         level: bool = True,
         orientation: np.ndarray | None = None,
         feel: bool = True,
+        tip_down: float = 0.0,
     ) -> Script:
         """Put the held object down so that its origin (the pinch centre if ``prop`` is
         None) ends at ``point``, open, and rise away. With ``prop``, the hand goes on down
@@ -231,7 +236,10 @@ class GraspingExpert(Expert):
         ``level``, the object is first turned level, or, given ``orientation`` (a rotation
         matrix), turned to it (else it keeps how it is held). Without ``feel`` the object
         is lowered to the point whatever it touches on the way (a plate sliding down
-        between a rack's holders)."""
+        between a rack's holders). ``tip_down``: an object held far from its middle (a pan
+        by its handle) hangs tilted in the fingers and first rests on its low edge; the hand
+        then goes on down, up to this far (m), turning it about that edge until it lies flat.
+        """
         self.note(f"place {'LR'[side]}")
         _, rotation = self.hand_pose(side)
         body = None if prop is None else self.env.props[prop].root_body_id
@@ -263,6 +271,8 @@ class GraspingExpert(Expert):
                 )
                 while self.time < end and not self.touches_support(prop):
                     yield
+            if tip_down:  # held off-centre, it hangs tilted: its low edge rests first
+                yield from self.lower_until_flat(side, prop, rotation, tip_down)
             self.hold_hand(side, HOLD, tremor=0.2)
             yield from self.wait(0.1)
         yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
@@ -270,6 +280,16 @@ class GraspingExpert(Expert):
         back = p - rotation[:, 2] * 0.06 + np.array([0.0, 0.0, 0.08])  # out along the approach, and up
         end = self.move_hand(side, back, rotation, GRASP * 0.5, spread=0.2, tremor=0.5)
         yield from self.until(end)
+
+    def lower_until_flat(self, side: int, prop: str, rotation: np.ndarray, depth: float) -> Script:
+        """Lower the hand (at most ``depth`` m) until the held prop resting on an edge lies
+        within ``FLAT`` of level."""
+        frame = self.data.xmat[self.env.props[prop].root_body_id]
+        p, _ = self.hand_pose(side)
+        duration = max(0.4, depth / LOWER_SPEED)
+        end = self.move_hand(side, p - np.array([0.0, 0.0, depth]), rotation, HOLD, duration=duration, spread=0.0)
+        while self.time < end and frame[8] < np.cos(FLAT):
+            yield
 
     def walk(self, route: Sequence[Sequence[float]], carrying: Sequence[int] = (), speed: float = 1.0) -> Script:
         """Walk the base through ``route`` (x, y, z, yaw waypoints), the ``carrying`` hands

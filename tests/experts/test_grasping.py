@@ -7,7 +7,7 @@ import pytest
 
 from bigym.experts import make_expert
 from bigym.experts.generate import _env, close_envs
-from bigym.experts.grasping import COMFORT, LEG_OVERLAP, PEAK, WALK_SPEED
+from bigym.experts.grasping import COMFORT, CROUCH_SPEED, LEG_OVERLAP, PEAK, WALK_SPEED
 
 
 @pytest.fixture(scope="module")
@@ -51,3 +51,15 @@ def test_a_walk_rounds_its_corners_stays_within_the_base_speed_and_ends_on_the_g
     corner = route[0][:2]
     assert LEG_OVERLAP > 0 and np.linalg.norm(samples - corner, axis=1).min() > 0.01
     assert expert.time - t0 < sum(PEAK * d / WALK_SPEED for d in (1.0, 1.5)) + 2.0
+
+
+def test_a_crouch_while_carrying_stays_within_the_crouch_speed(expert):
+    start = expert.commanded_base()
+    route = [start + [0.2, 0.0, -0.45, 0.0]]  # a deep crouch on a short step
+    heights = []
+    for _ in expert.walk(route):
+        heights.append(float(expert.base_ref(expert.time)[2]))
+        expert.time += expert.dt
+    np.testing.assert_allclose(expert.base_ref(expert.time), route[-1], atol=1e-9)
+    speeds = np.abs(np.diff(heights)) / expert.dt
+    assert 0.8 * CROUCH_SPEED < speeds.max() <= CROUCH_SPEED * 1.05
