@@ -60,8 +60,6 @@ HANDLE_RISE = 0.18
 #: and onto one on the hob (less: the open fingers would touch the hob)
 HANDLE_TILT = 0.4
 HOB_TILT = 0.15
-#: how high (m) above a handle the hand passes on its way over the counter's edge
-HOB_CLEARANCE = 0.1
 #: how far the fingers are pre-closed for a handle on the hob: wide open, the lower finger
 #: would touch the hob under it
 HOB_OPENING = 0.45
@@ -224,7 +222,6 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         lift: float,
         tilt: float = HANDLE_TILT,
         opening: float = 0.0,
-        via: list[np.ndarray] | None = None,
     ) -> Script:
         """Take a pot's handle (the fingers closing across its flat sides, the hand coming
         down onto it ``tilt`` rad below the horizontal), trying again if the fingers closed
@@ -274,11 +271,10 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         self.note(f"to the hob for {pot}")
         yield from self.until(self.move_base(stance))
         lift = HOB_LIFT + abs(self.human.jitter(0.01))
-        # over the counter's front edge, not through it
-        above = handle - approach * 0.18 + np.array([0.0, 0.0, HOB_CLEARANCE + abs(self.human.jitter(0.02))])
-        yield from self.take_handle(
-            side, pot, handle, along, approach, lift, tilt=HOB_TILT, opening=HOB_OPENING, via=[above]
-        )
+        # a draw the shipped demos were made with (for a via point over the counter's edge
+        # that never reached the hand): kept so that they regenerate byte for byte
+        self.human.jitter(0.02)
+        yield from self.take_handle(side, pot, handle, along, approach, lift, tilt=HOB_TILT, opening=HOB_OPENING)
 
     def put_in_cabinet(self, side: int, pot: str, deep: bool) -> Script:
         """Back away from the hob with the pot, crouch until it hangs just above the shelf's
@@ -324,9 +320,7 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         inside[3] = self.human.jitter(0.05)  # square to the cabinet
         self.note("in")
         yield from self.walk([inside], carrying=[side])
-        frame = self.data.xmat[body].reshape(3, 3)
-        level = yaw_matrix(float(np.arctan2(frame[1, 0], frame[0, 0])))
-        yield from self.place(side, spot, prop=pot, level=False, orientation=level, tip_down=TIP_DOWN)
+        yield from self.place(side, spot, prop=pot, level=False, orientation=self.flat(body), tip_down=TIP_DOWN)
         # the open hand out of the cabinet, under the counter's edge
         p, r = self.hand_pose(side)
         out = np.array([CABINET_FRONT - 0.12, p[1], min(p[2], COUNTER_UNDERSIDE - 0.15)])
@@ -355,6 +349,11 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         )
         return t0 + duration
 
+    def flat(self, body: int) -> np.ndarray:
+        """A body's orientation turned level, keeping its heading."""
+        frame = self.data.xmat[body].reshape(3, 3)
+        return yaw_matrix(float(np.arctan2(frame[1, 0], frame[0, 0])))
+
     def draw_out(self, side: int, pot: str) -> Script:
         """Draw the pot straight out of the cabinet, stepping back, until it is clear of the
         counter's front edge (it rises only then)."""
@@ -372,9 +371,7 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         prop = self.env.props[pot]
         body = prop.root_body_id
         spot = self.site(CABINET, burner) + self.human.jitter(0.01, 3) * np.array([1.0, 1.0, 0.0])
-        frame = self.data.xmat[body].reshape(3, 3)
-        yaw = float(np.arctan2(frame[1, 0], frame[0, 0]))
-        level = yaw_matrix(yaw)
+        level = self.flat(body)
         offset = self.held_offset(side, body)
         base = self.commanded_base()
         stance = self.stance_for(side, spot + np.array([0.0, 0.0, 0.03]) + offset, base[3])
