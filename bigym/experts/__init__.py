@@ -50,6 +50,7 @@ EXPERTS: dict[str, str] = {
     **{task: "bigym.experts.dishwasher:DishwasherExpert" for task in _DISHWASHER},
     "StackBlocks": "bigym.experts.stack_blocks:StackBlocksExpert",
     "MovePlate": "bigym.experts.move_plates:MovePlateExpert",
+    "MoveTwoPlates": "bigym.experts.move_plates:MovePlateExpert",
     "SaucepanToHob": "bigym.experts.cookware:CookwareExpert",
     "StoreKitchenware": "bigym.experts.cookware:CookwareExpert",
 }

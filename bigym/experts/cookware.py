@@ -28,7 +28,7 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.experts.doors import DoorSkills
-from bigym.experts.expert import ALIGN_BAR, FREE, LEFT, RIGHT, HandReference, Script
+from bigym.experts.expert import ALIGN_BAR, FREE, LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.geometry import yaw_matrix
 from bigym.experts.grasping import (
     EMPTY_GRIP,
@@ -36,7 +36,6 @@ from bigym.experts.grasping import (
     MAX_SETTLE,
     SETTLE_DISTANCE,
     GraspingExpert,
-    from_base,
     to_base,
 )
 
@@ -95,9 +94,6 @@ SHELF_SIDE_GAP = 0.0
 HAND_MIN_Y = -0.12
 #: how far (m) the hand goes on down after a pot rests on its low edge, to lay it flat
 TIP_DOWN = 0.1
-#: where a free hand waits beside the hip (base frame, the left hand's; the right one
-#: mirrored), out of the way of the furniture when crouching close to it
-HAND_AT_HIP = np.array([0.0, 0.24, 0.15])
 #: the burners the saucepan is put on: the front two (the arm reaches the back ones, but
 #: only the front ones have been tried)
 FRONT_BURNERS = ("hob_site_1", "hob_site_2")
@@ -112,7 +108,7 @@ class CookwareExpert(GraspingExpert, DoorSkills):
     def plan(self) -> Script:
         yield from self.wait(self.human.reaction())
         door_side = self.door_side(CABINET, DOOR)
-        self.choices["hands"] = [f"{CABINET}/{DOOR}:{_name(door_side)}"]
+        self.choices["hands"] = [f"{CABINET}/{DOOR}:{SIDE_NAMES[door_side]}"]
         yield from self.door(door_side, CABINET, DOOR, 1.0, push_past=DOOR_PUSH_PAST)
         self.keep_clear_of_open_door(CABINET, DOOR)
         # the door hand comes back to the body before anything else moves
@@ -128,7 +124,7 @@ class CookwareExpert(GraspingExpert, DoorSkills):
 
     def saucepan_to_hob(self) -> Script:
         side = LEFT  # the handle points to the robot's left
-        self.choices["hands"].append(f"saucepan:{_name(side)}")
+        self.choices["hands"].append(f"saucepan:{SIDE_NAMES[side]}")
         burner = FRONT_BURNERS[int(self.rng.integers(len(FRONT_BURNERS)))]
         self.choices["burner"] = burner
         yield from self.take_from_cabinet(side, "saucepan")
@@ -145,7 +141,7 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         if self.rng.random() > FRONT_FIRST:
             order.reverse()
         self.choices["order"] = order
-        self.choices["hands"] += [f"{pot}:{_name(side)}" for pot in order]
+        self.choices["hands"] += [f"{pot}:{SIDE_NAMES[side]}" for pot in order]
         for index, pot in enumerate(order):
             yield from self.take_from_hob(side, pot)
             # the first pot goes to the back of the shelf, the second in front of it
@@ -331,24 +327,6 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         self.note("stand up")
         yield from self.walk([up], carrying=[side])
 
-    def hand_to_hip(self, side: int) -> float:
-        """Bring a free hand beside the hip, where it stays as the body moves; returns the
-        end time."""
-        base = self.commanded_base()
-        p, r = self.hand_pose(side)
-        local_p, local_r = to_base(base, p, r)
-        goal = HAND_AT_HIP * np.array([1.0, 1.0 if side == LEFT else -1.0, 1.0]) + self.human.jitter(0.02, 3)
-        duration = self.human.duration(float(np.linalg.norm(goal - local_p)), 0.05)
-        path = self.human.path([local_p, goal], duration)
-        t0 = self.time
-        self.hands[side] = HandReference(
-            (lambda t: from_base(self.base_ref(t), path(min(max(t - t0, 0.0), duration)), None)[0]),
-            (lambda t: from_base(self.base_ref(t), None, local_r)[1]),
-            FREE,
-            tremor=0.5,
-        )
-        return t0 + duration
-
     def flat(self, body: int) -> np.ndarray:
         """A body's orientation turned level, keeping its heading."""
         frame = self.data.xmat[body].reshape(3, 3)
@@ -381,10 +359,6 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         self.note("stand up")
         yield from self.walk([up, stance], carrying=[side])
         yield from self.place(side, spot, prop=pot, level=False, orientation=level, tip_down=TIP_DOWN)
-
-
-def _name(side: int) -> str:
-    return "left" if side == LEFT else "right"
 
 
 __all__ = ["CookwareExpert"]

@@ -20,7 +20,7 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.experts.doors import DONE_MARGIN, OVERSHOOT, DoorSkills
-from bigym.experts.expert import FIRM, LEFT, RIGHT, Script
+from bigym.experts.expert import FIRM, LEFT, RIGHT, SIDE_NAMES, Script
 
 DRAWERS_PROP = "cabinet_drawers"
 DRAWER_ORDER = ("drawer_big_1", "drawer_small_3", "drawer_small_4")  # bottom to top
@@ -99,7 +99,7 @@ class CupboardExpert(DoorSkills):
 
     # ------------------------------------------------------------------ helpers
     def _note_hand(self, job: str, side: int | str) -> None:
-        name = side if isinstance(side, str) else ("left" if side == LEFT else "right")
+        name = side if isinstance(side, str) else SIDE_NAMES[side]
         self.choices.setdefault("hands", []).append(f"{job}:{name}")
 
     def pick_hand(self, job: str) -> int:

@@ -46,6 +46,7 @@ DATASET_TASKS = (
     "CupboardsCloseAll",
     "StackBlocks",
     "MovePlate",
+    "MoveTwoPlates",
     "SaucepanToHob",
     "StoreKitchenware",
 )

@@ -20,7 +20,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.expert import FIRM, LEFT, RIGHT, Expert, Script
+from bigym.experts.expert import FIRM, LEFT, RIGHT, SIDE_NAMES, Expert, Script
 
 PROP = "dishwasher"
 #: pelvis clearance (m) in front of the dishwasher's front, and beside the door
@@ -74,9 +74,7 @@ class DishwasherExpert(Expert):
             1 - near if job == "tray_mid" and self.rng.random() < FAR_HAND_PROBABILITY else near
             for job in self.choices["order"]
         ]
-        self.choices["hands"] = [
-            f"{job}:{'left' if side == LEFT else 'right'}" for job, side in zip(self.choices["order"], sides)
-        ]
+        self.choices["hands"] = [f"{job}:{SIDE_NAMES[side]}" for job, side in zip(self.choices["order"], sides)]
         yield from self.wait(self.human.reaction())
         for idle in (LEFT, RIGHT):
             if idle not in sides[:1]:

@@ -29,6 +29,7 @@ from bigym.robot.h1 import ARM_JOINTS, STANDING_HEIGHT
 
 LEFT, RIGHT = 0, 1
 SIDE_INDEX = {"left": LEFT, "right": RIGHT}
+SIDE_NAMES = ("left", "right")  # by side index
 Script = Generator[None, None, None]
 
 #: orientation costs (per pinch-frame axis: x = across the fingers' faces, y = closing
@@ -703,4 +704,4 @@ class Expert:
         return frame_from_axes(bar, approach)
 
 
-__all__ = ["ALIGN_BAR", "FIRM", "FREE", "LEFT", "RIGHT", "SIDE_INDEX", "Expert", "HandReference"]
+__all__ = ["ALIGN_BAR", "FIRM", "FREE", "LEFT", "RIGHT", "SIDE_INDEX", "SIDE_NAMES", "Expert", "HandReference"]

@@ -21,7 +21,7 @@ from collections.abc import Callable, Generator, Sequence
 
 import numpy as np
 
-from bigym.experts.expert import Expert, HandReference, Script
+from bigym.experts.expert import FREE, LEFT, Expert, HandReference, Script
 from bigym.experts.geometry import axis_angle_matrix, frame_from_axes, yaw_matrix
 from bigym.robot.h1 import STANDING_HEIGHT
 
@@ -45,6 +45,9 @@ MAX_SETTLE = 0.5
 TABLE_CLEARANCE = 0.12
 #: a gripper closed further than this holds nothing
 EMPTY_GRIP = 0.85
+#: where a free hand waits beside the hip (base frame, the left hand's; the right one
+#: mirrored), out of the way of the furniture when crouching close to it
+HAND_AT_HIP = np.array([0.0, 0.24, 0.15])
 #: orientation costs of a grasp, about the pinch axes: turning about the closing axis (y)
 #: only tilts the approach and is left almost free; turning about the other two moves the
 #: closing direction off the object's face normal
@@ -53,6 +56,8 @@ GRASP = np.array([2.0, 0.1, 2.0])
 #: the rest of the way at this speed (m/s)
 FLAT = np.deg2rad(4.0)
 LOWER_SPEED = 0.08
+#: an object lowered into a slot is down when its origin is within this (m) of its goal
+LANDED = 0.003
 #: orientation costs while holding an object: it turns with the hand, about every axis
 HOLD = np.array([2.0, 1.0, 2.0])
 #: orientation costs while carrying: the object stays level
@@ -119,25 +124,31 @@ class GraspingExpert(Expert):
         via: Sequence[np.ndarray] | None = None,
         attempts: int = 3,
         prop: str | None = None,
+        opening: float = 0.0,
+        tilt: float = GRASP_TILT,
+        cost: np.ndarray = GRASP,
     ) -> Generator[None, None, bool]:
         """Take an object from above and lift it ``lift`` metres; ``aim()`` gives the pinch
         point and the closing direction from the object as it lies now. A grasp that
         closes on nothing (the object slipped away or was missed) is tried again from
         above, as a person would, up to ``attempts`` times: it holds when the fingers
         stopped short of closing, or, given the object's ``prop`` name (thin objects: the
-        fingers close almost fully on them), when the task sees it held. Returns whether it holds."""
+        fingers close almost fully on them), when the task sees it held. ``opening``
+        half-closes the fingers on the way in (0 = wide open), for an object with a
+        neighbour close beside it. ``tilt`` and ``cost``: how steeply the hand comes down and
+        how firmly the IK keeps its orientation (see :data:`GRASP`). Returns whether it holds."""
         for attempt in range(attempts):
             self.note(f"pick {'LR'[side]}" + (f" again ({attempt})" if attempt else ""))
             point, closing = aim()
-            rotation = self.grasp_rotation(side, closing)
+            rotation = self.grasp_rotation(side, closing, tilt)
             approach = rotation[:, 2]
             above = point - approach * (PRE_GRASP_HEIGHT + abs(self.human.jitter(0.02)))
-            self.grip[side] = 0.0
+            self.grip[side] = opening
             end = self.move_hand(
                 side,
                 above,
                 rotation,
-                GRASP,
+                cost,
                 lift=0.05,
                 correct=not attempt,
                 precision=0.03,
@@ -145,7 +156,7 @@ class GraspingExpert(Expert):
             )
             yield from self.until(end)
             yield from self.hesitate()
-            end = self.move_hand(side, point, rotation, GRASP, spread=0.0, precision=0.004, speed=0.6, tremor=0.3)
+            end = self.move_hand(side, point, rotation, cost, spread=0.0, precision=0.004, speed=0.6, tremor=0.3)
             yield from self.until(end + 0.1)
             if prop is not None:  # a thin object is taken only once the fingers are round it
                 yield from self.settle(side, point, SETTLE_DISTANCE, MAX_SETTLE)
@@ -161,7 +172,7 @@ class GraspingExpert(Expert):
                 self.grasp_pose[side] = to_base(self.commanded_base(), pinch, rotation)
             else:
                 self.grip[side] = 0.0
-            end = self.move_hand(side, goal, rotation, HOLD if holds else GRASP, spread=0.2, tremor=0.5)
+            end = self.move_hand(side, goal, rotation, HOLD if holds else cost, spread=0.2, tremor=0.5)
             yield from self.until(end)
             if holds:
                 return True
@@ -211,6 +222,24 @@ class GraspingExpert(Expert):
             self._not_robot = model.body_rootid[model.geom_bodyid] != robot_root
         return self.env.touching(self.env.mask(prop), self._not_robot)
 
+    def hand_to_hip(self, side: int) -> float:
+        """Bring a free hand beside the hip, where it stays as the body moves; returns the
+        end time."""
+        base = self.commanded_base()
+        p, r = self.hand_pose(side)
+        local_p, local_r = to_base(base, p, r)
+        goal = HAND_AT_HIP * np.array([1.0, 1.0 if side == LEFT else -1.0, 1.0]) + self.human.jitter(0.02, 3)
+        duration = self.human.duration(float(np.linalg.norm(goal - local_p)), 0.05)
+        path = self.human.path([local_p, goal], duration)
+        t0 = self.time
+        self.hands[side] = HandReference(
+            (lambda t: from_base(self.base_ref(t), path(min(max(t - t0, 0.0), duration)), None)[0]),
+            (lambda t: from_base(self.base_ref(t), None, local_r)[1]),
+            FREE,
+            tremor=0.5,
+        )
+        return t0 + duration
+
     def settle(self, side: int, point: np.ndarray, distance: float, max_wait: float) -> Script:
         """Wait (at most ``max_wait`` s) until the hand's pinch point is within ``distance``."""
         site = self.env.robot.pinch_site_ids[side]
@@ -228,6 +257,7 @@ class GraspingExpert(Expert):
         orientation: np.ndarray | None = None,
         feel: bool = True,
         tip_down: float = 0.0,
+        land: float = 0.0,
     ) -> Script:
         """Put the held object down so that its origin (the pinch centre if ``prop`` is
         None) ends at ``point``, open, and rise away. With ``prop``, the hand goes on down
@@ -239,6 +269,9 @@ class GraspingExpert(Expert):
         between a rack's holders). ``tip_down``: an object held far from its middle (a pan
         by its handle) hangs tilted in the fingers and first rests on its low edge; the hand
         then goes on down, up to this far (m), turning it about that edge until it lies flat.
+        ``land`` (without ``feel``): the object may hang a little higher in the hand than
+        it did; the hand goes on down, up to this far (m), until the object is at ``point``,
+        so that it is let go of resting, not dropped.
         """
         self.note(f"place {'LR'[side]}")
         _, rotation = self.hand_pose(side)
@@ -255,6 +288,7 @@ class GraspingExpert(Expert):
             above = above + self.held_offset(side, body)
         end = self.move_hand(side, above, rotation, HOLD, correct=True, precision=0.02)
         yield from self.until(end)
+        rest_height = float(point[2])
         if holding:  # look again, now that the object hangs still over the spot
             if level or orientation is not None:
                 rotation = self.turned_rotation(side, body, orientation)
@@ -262,6 +296,9 @@ class GraspingExpert(Expert):
         end = self.move_hand(side, point, rotation, HOLD, spread=0.0, precision=0.004, speed=0.5, tremor=0.3)
         if prop is None or not feel:
             yield from self.until(end + 0.15)
+            if land and body is not None:
+                yield from self.lower_until_at(side, body, rest_height, rotation, land)
+                self.hold_hand(side, HOLD, tremor=0.2)
         else:
             while self.time < end and not self.touches_support(prop):
                 yield
@@ -291,9 +328,22 @@ class GraspingExpert(Expert):
         while self.time < end and frame[8] < np.cos(FLAT):
             yield
 
-    def walk(self, route: Sequence[Sequence[float]], carrying: Sequence[int] = (), speed: float = 1.0) -> Script:
+    def lower_until_at(self, side: int, body: int, height: float, rotation: np.ndarray, depth: float) -> Script:
+        """Lower the hand (at most ``depth`` m) until the held body's origin is down to
+        ``height`` (within ``LANDED``)."""
+        p, _ = self.hand_pose(side)
+        duration = max(0.3, depth / LOWER_SPEED)
+        end = self.move_hand(side, p - np.array([0.0, 0.0, depth]), rotation, HOLD, duration=duration, spread=0.0)
+        while self.time < end and self.data.xpos[body][2] > height + LANDED:
+            yield
+
+    def walk(
+        self, route: Sequence[Sequence[float]], carrying: Sequence[int] = (), speed: float = 1.0, wait: bool = True
+    ) -> Generator[None, None, float]:
         """Walk the base through ``route`` (x, y, z, yaw waypoints), the ``carrying`` hands
-        held still relative to the pelvis.
+        held still relative to the pelvis; returns the time the walk ends. Without ``wait``
+        it returns at once, so that the hands can start on something else on the way (the
+        carrying hands stay with the pelvis until they are given something else to do).
 
         Each leg is a minimum-jerk movement; the next one starts before the last ends (by
         ``LEG_OVERLAP`` of its duration), so the legs add up to one movement that rounds
@@ -338,10 +388,13 @@ class GraspingExpert(Expert):
             return out
 
         self.base_ref = base_at
+        if not wait:
+            return t
         yield from self.until(t)
         self.base_ref = lambda time, end=start: end
         for side in carrying:
             self.hold_hand(side, self.hands[side].orientation_cost, tremor=0.5)
+        return t
 
 
 def to_base(base: np.ndarray, p: np.ndarray, r: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

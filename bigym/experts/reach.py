@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bigym.experts.expert import LEFT, RIGHT, SIDE_INDEX, Expert, Script
+from bigym.experts.expert import LEFT, RIGHT, SIDE_INDEX, SIDE_NAMES, Expert, Script
 from bigym.experts.geometry import yaw_matrix
 
 #: comfortable forward reach of the wrist from the pelvis (m); beyond it the robot steps
@@ -38,7 +38,7 @@ class ReachExpert(Expert):
             local = to_local @ (target - np.array([base[0], base[1], 0.0]))
             side = self.choose_hand(local) if hand == "any" else SIDE_INDEX[hand]
             goals.append((side, target))
-        self.choices["hands"] = ["left" if s == LEFT else "right" for s, _ in goals]
+        self.choices["hands"] = [SIDE_NAMES[s] for s, _ in goals]
         yield from self.wait(self.human.reaction())
         # Step forward (and a little sideways) only when the target is far.
         locals_ = [to_local @ (t - np.array([base[0], base[1], 0.0])) for _, t in goals]

@@ -17,7 +17,7 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.envs.manipulation import TABLE_TOP
-from bigym.experts.expert import LEFT, RIGHT, Script
+from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
 
 NEAR_TABLE_FRONT = 0.4  # x of the near table's front edge
@@ -52,7 +52,7 @@ class StackBlocksExpert(GraspingExpert):
             side_sign = -side_sign
         self.choices["order"] = [*pick_order, later]
         self.choices["placed"] = [*place_order, later]
-        self.choices["hands"] = [f"{b}:{'left' if hands[b] == LEFT else 'right'}" for b in first_two]
+        self.choices["hands"] = [f"{b}:{SIDE_NAMES[hands[b]]}" for b in first_two]
         self.choices["route"] = "left" if side_sign > 0 else "right"
 
         yield from self.wait(self.human.reaction())
@@ -65,7 +65,7 @@ class StackBlocksExpert(GraspingExpert):
             self.relax_arm(hands[name])
         yield from self.walk_round(side_sign, to_far=False, carrying=(), pad=pad)
         side = LEFT if self.site_free(later)[1] > self.base_pose()[1] else RIGHT
-        self.choices["hands"].append(f"{later}:{'left' if side == LEFT else 'right'}")
+        self.choices["hands"].append(f"{later}:{SIDE_NAMES[side]}")
         yield from self.take_block(side, later)
         yield from self.walk_round(side_sign, to_far=True, carrying=(side,), pad=pad)
         yield from self.put_on_stack(side, later, pad, size)

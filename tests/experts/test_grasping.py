@@ -63,3 +63,34 @@ def test_a_crouch_while_carrying_stays_within_the_crouch_speed(expert):
     np.testing.assert_allclose(expert.base_ref(expert.time), route[-1], atol=1e-9)
     speeds = np.abs(np.diff(heights)) / expert.dt
     assert 0.8 * CROUCH_SPEED < speeds.max() <= CROUCH_SPEED * 1.05
+
+
+def test_a_walk_that_does_not_wait_returns_its_end_at_once_and_the_base_still_gets_there(expert):
+    start = expert.commanded_base()
+    route = [start + [0.3, -0.4, 0.0, 0.2]]
+    script = expert.walk(route, wait=False)
+    with pytest.raises(StopIteration) as stop:
+        next(script)  # no step of the plan's clock is spent
+    end = stop.value.value
+    t0 = expert.time
+    assert end > t0 + PEAK * 0.5 / WALK_SPEED - 1e-9  # as long as a waited walk of 0.5 m
+    np.testing.assert_allclose(expert.base_ref(t0), start, atol=1e-9)
+    np.testing.assert_allclose(expert.base_ref(end), route[-1], atol=1e-9)
+    np.testing.assert_allclose(expert.base_ref(end + 5.0), route[-1], atol=1e-9)  # and stays
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_a_plate_turned_in_its_own_plane_is_put_back_face_only(seed):
+    from bigym.experts.geometry import axis_angle_matrix
+    from bigym.experts.move_plates import aligning_rotation
+
+    rng = np.random.default_rng(seed)
+    stood = axis_angle_matrix(rng.normal(size=3), rng.uniform(0, np.pi))
+    # as held: turned about its own face normal, and tilted a little
+    held = axis_angle_matrix(rng.normal(size=3), 0.3) @ stood @ axis_angle_matrix([0, 0, 1], rng.uniform(-1, 1))
+    goal = aligning_rotation(held[:, 2], stood[:, 2]) @ held
+    np.testing.assert_allclose(goal[:, 2], stood[:, 2], atol=1e-9)  # the face as it stood
+    np.testing.assert_allclose(goal.T @ goal, np.eye(3), atol=1e-9)
+    # the smallest turn: about an axis in the plate's plane, so the in-plane turn stays
+    axis = np.cross(held[:, 2], stood[:, 2])
+    np.testing.assert_allclose(goal @ held.T @ axis, axis, atol=1e-9)
