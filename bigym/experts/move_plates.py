@@ -34,6 +34,7 @@ from bigym.envs.move_plates import PLATE_IN_SLOT_OFFSET
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.geometry import axis_angle_matrix
 from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
+from bigym.props import DishDrainer
 
 TABLE_FRONT = 0.4  # x of the table's front edge
 #: the fingers close this far (m) below the top of the rim
@@ -45,7 +46,6 @@ NEAR_HAND_PROBABILITY = 0.85
 #: two plates go in with at least this many free slots between them (the opening fingers
 #: reach 4 cm either side of a plate, one slot's pitch)
 SLOT_GAP = 1
-SLOT_PITCH = 0.042
 #: how far the fingers are closed (0 open, 1 shut) going in beside a neighbouring plate:
 #: the finger between the two then misses both
 NEIGHBOUR_OPENING = 0.6
@@ -66,7 +66,7 @@ LATERAL = 0.18
 
 
 class MovePlateExpert(GraspingExpert):
-    """Moves the plate of ``MovePlate`` to the target drainer."""
+    """Moves the plate of ``MovePlate``, or both plates of ``MoveTwoPlates``, to the target drainer."""
 
     tasks = ("MovePlate", "MoveTwoPlates")
     pace: ClassVar[dict[str, float]] = {"MovePlate": 1.6, "MoveTwoPlates": 1.8}
@@ -124,7 +124,7 @@ class MovePlateExpert(GraspingExpert):
 
         self.keep_base_behind(np.array([TABLE_FRONT, 0.0]), np.array([1.0, 0.0]), TABLE_CLEARANCE)
         # neighbours one slot apart leave room only for half-open fingers
-        opening = NEIGHBOUR_OPENING if abs(ys[0] - ys[1]) < 1.5 * SLOT_PITCH else 0.0
+        opening = NEIGHBOUR_OPENING if abs(ys[0] - ys[1]) < 1.5 * DishDrainer.PITCH else 0.0
         yield from self.wait(self.human.reaction())
         base = self.commanded_base()
         stance = np.array(
