@@ -49,6 +49,15 @@ def frame_from_axes(x_axis: np.ndarray, z_axis: np.ndarray) -> np.ndarray:
     return np.column_stack([x, y, z])
 
 
+def aligning_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The smallest rotation taking unit vector ``a`` to unit vector ``b``."""
+    axis = np.cross(a, b)
+    sine = float(np.linalg.norm(axis))
+    if sine < 1e-9:
+        return np.eye(3)
+    return axis_angle_matrix(axis / sine, float(np.arctan2(sine, a @ b)))
+
+
 def yaw_matrix(yaw: float) -> np.ndarray:
     c, s = np.cos(yaw), np.sin(yaw)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])

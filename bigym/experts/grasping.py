@@ -297,7 +297,8 @@ class GraspingExpert(Expert):
         if prop is None or not feel:
             yield from self.until(end + 0.15)
             if land and body is not None:
-                yield from self.lower_until_at(side, body, rest_height, rotation, land)
+                origin = self.data.xpos[body]  # down until it stands at its rest height
+                yield from self.lower_until(side, rotation, land, 0.3, lambda: origin[2] <= rest_height + LANDED)
                 self.hold_hand(side, HOLD, tremor=0.2)
         else:
             while self.time < end and not self.touches_support(prop):
@@ -309,7 +310,8 @@ class GraspingExpert(Expert):
                 while self.time < end and not self.touches_support(prop):
                     yield
             if tip_down:  # held off-centre, it hangs tilted: its low edge rests first
-                yield from self.lower_until_flat(side, prop, rotation, tip_down)
+                frame = self.data.xmat[body]  # down until it lies within FLAT of level
+                yield from self.lower_until(side, rotation, tip_down, 0.4, lambda: frame[8] >= np.cos(FLAT))
             self.hold_hand(side, HOLD, tremor=0.2)
             yield from self.wait(0.1)
         yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
@@ -318,23 +320,15 @@ class GraspingExpert(Expert):
         end = self.move_hand(side, back, rotation, GRASP * 0.5, spread=0.2, tremor=0.5)
         yield from self.until(end)
 
-    def lower_until_flat(self, side: int, prop: str, rotation: np.ndarray, depth: float) -> Script:
-        """Lower the hand (at most ``depth`` m) until the held prop resting on an edge lies
-        within ``FLAT`` of level."""
-        frame = self.data.xmat[self.env.props[prop].root_body_id]
+    def lower_until(
+        self, side: int, rotation: np.ndarray, depth: float, shortest: float, done: Callable[[], bool]
+    ) -> Script:
+        """Lower the hand (at most ``depth`` m, at ``LOWER_SPEED``, over ``shortest`` s at
+        least) until ``done()``: how a person lowers a held thing until they feel it right."""
         p, _ = self.hand_pose(side)
-        duration = max(0.4, depth / LOWER_SPEED)
+        duration = max(shortest, depth / LOWER_SPEED)
         end = self.move_hand(side, p - np.array([0.0, 0.0, depth]), rotation, HOLD, duration=duration, spread=0.0)
-        while self.time < end and frame[8] < np.cos(FLAT):
-            yield
-
-    def lower_until_at(self, side: int, body: int, height: float, rotation: np.ndarray, depth: float) -> Script:
-        """Lower the hand (at most ``depth`` m) until the held body's origin is down to
-        ``height`` (within ``LANDED``)."""
-        p, _ = self.hand_pose(side)
-        duration = max(0.3, depth / LOWER_SPEED)
-        end = self.move_hand(side, p - np.array([0.0, 0.0, depth]), rotation, HOLD, duration=duration, spread=0.0)
-        while self.time < end and self.data.xpos[body][2] > height + LANDED:
+        while self.time < end and not done():
             yield
 
     def walk(

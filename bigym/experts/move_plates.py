@@ -32,7 +32,7 @@ import numpy as np
 
 from bigym.envs.move_plates import PLATE_IN_SLOT_OFFSET
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
-from bigym.experts.geometry import axis_angle_matrix
+from bigym.experts.geometry import aligning_rotation
 from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
 from bigym.props import DishDrainer
 
@@ -219,15 +219,6 @@ class MovePlateExpert(GraspingExpert):
         self._initial_rotation = {
             p: self.data.xmat[self.env.props[p].root_body_id].reshape(3, 3).copy() for p in self.env.plates
         }
-
-
-def aligning_rotation(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """The smallest rotation taking unit vector ``a`` to unit vector ``b``."""
-    axis = np.cross(a, b)
-    sine = float(np.linalg.norm(axis))
-    if sine < 1e-9:
-        return np.eye(3)
-    return axis_angle_matrix(axis / sine, float(np.arctan2(sine, a @ b)))
 
 
 __all__ = ["MovePlateExpert"]

@@ -81,8 +81,7 @@ def test_a_walk_that_does_not_wait_returns_its_end_at_once_and_the_base_still_ge
 
 @pytest.mark.parametrize("seed", range(5))
 def test_a_plate_turned_in_its_own_plane_is_put_back_face_only(seed):
-    from bigym.experts.geometry import axis_angle_matrix
-    from bigym.experts.move_plates import aligning_rotation
+    from bigym.experts.geometry import aligning_rotation, axis_angle_matrix
 
     rng = np.random.default_rng(seed)
     stood = axis_angle_matrix(rng.normal(size=3), rng.uniform(0, np.pi))
