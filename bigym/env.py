@@ -7,6 +7,7 @@ failed. The loop itself does no name look-ups and builds no static data per step
 
 from __future__ import annotations
 
+import hashlib
 import math
 import numbers
 from typing import Any, ClassVar
@@ -99,7 +100,9 @@ class BiGymEnv(gym.Env):
         self._bind(self.model, self.data)
 
         self.action_space = gym.spaces.Box(self._controller.low, self._controller.high, dtype=np.float32)
-        self._proprioception = ProprioceptionReader(self.model, self.robot) if self.observation_config.proprioception else None
+        self._proprioception = (
+            ProprioceptionReader(self.model, self.robot) if self.observation_config.proprioception else None
+        )
         self.observation_space = self._make_observation_space()
         self._renderer: CameraRenderer | ClosedRenderer | None = (
             CameraRenderer(self.model, self.observation_config.cameras) if self.observation_config.cameras else None
@@ -152,6 +155,14 @@ class BiGymEnv(gym.Env):
 
     def _privileged_observation(self, obs: dict[str, np.ndarray]) -> None:
         """Add task state (object poses, joint states) to ``obs``."""
+
+    def state_digest(self) -> str:
+        """A short sha256 of the full simulator state (positions, velocities, controls,
+        mocap, time): after ``reset(seed)`` it names the seed's scene, exactly."""
+        spec = mujoco.mjtState.mjSTATE_INTEGRATION
+        state = np.empty(mujoco.mj_stateSize(self.model, spec))
+        mujoco.mj_getState(self.model, self.data, state, spec)
+        return hashlib.sha256(state.tobytes()).hexdigest()[:16]
 
     # ------------------------------------------------------------------ layouts
     @property

@@ -14,6 +14,10 @@ from bigym.env import BiGymEnv
 
 
 class Policy(Protocol):
+    """See :mod:`bigym.evaluation.policy`: ``policy.reset(seed)``, ``policy(obs) -> action``."""
+
+    def reset(self, seed: int | None) -> None: ...
+
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray: ...
 
 
@@ -25,6 +29,10 @@ class RandomPolicy:
         self._high = env.action_space.high.astype(np.float64)
         self._rng = np.random.default_rng(seed)
 
+    def reset(self, seed: int | None) -> None:
+        """Restart the draws for an episode: the same seed gives the same actions."""
+        self._rng = np.random.default_rng(seed)
+
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         return self._rng.uniform(self._low, self._high).astype(np.float32)
 
@@ -32,10 +40,15 @@ class RandomPolicy:
 class HoldPolicy:
     """Keeps every servo at its current target: zero deltas, or the current targets when absolute."""
 
+    reads_simulator = True  # the current targets come from env.data
+
     def __init__(self, env: BiGymEnv) -> None:
         self._env = env
         self._keep_target = bool(env.action_mode.absolute)
         self._base = env.action_layout.groups.get("base")
+
+    def reset(self, seed: int | None) -> None:
+        """Nothing to restart: the policy has no state."""
 
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         n = len(self._env.action_layout)
@@ -54,6 +67,8 @@ class ReachPolicy:
     wrist-site Jacobian over the base DOFs and the arm joints; the base is weighted to
     move less than the arms, as a person steps only when the arm alone falls short.
     """
+
+    reads_simulator = True  # targets and Jacobians come from env.data
 
     def __init__(self, env: BiGymEnv, gain: float = 25.0, max_joint_speed: float = 2.5, damping: float = 0.05) -> None:
         if not hasattr(env, "target_positions"):
@@ -84,6 +99,9 @@ class ReachPolicy:
         self._jacobian = np.zeros((3, model.nv))
         self._sides = {"left": 0, "right": 1}
         self._n = len(layout)
+
+    def reset(self, seed: int | None) -> None:
+        """Nothing to restart: the policy has no state."""
 
     def _goals(self) -> list[tuple[int, np.ndarray]]:
         env = self._env

@@ -67,3 +67,36 @@ def test_readme_setup_commands_match_ci():
     ci = (REPO / ".ci" / "run").read_text()
     command = 'python3 -m venv .venv && . .venv/bin/activate && pip install -e ".[dev]" && python -m pytest -q'
     assert command in readme and command in ci
+
+
+def test_readme_main_job_runs_as_written(tmp_path):
+    """The README's first command, after its install step, runs and does what it says."""
+    import re
+    import shlex
+
+    from typer.testing import CliRunner
+
+    from bigym.cli import app
+
+    readme = (REPO / "README.md").read_text()
+    first = re.search(r"```bash\n(.*?)\n```", readme, re.S).group(1)
+    job = first.split("&&")[-1].strip()
+    words = shlex.split(job)
+    assert words[0] == "MUJOCO_GL=egl" and words[1] == "bigym", job
+    result = CliRunner().invoke(app, words[2:] + ["--json", str(tmp_path / "result.json")])
+    assert result.exit_code == 0, result.output
+    assert "(Wilson)" in result.output and "official" in result.output
+    assert any(Path("videos").glob("*.mp4")), "the command writes videos of its first episodes"
+
+
+def test_readme_expert_table_is_the_committed_records():
+    """The README's expert reference table is what benchmarks/expert_reference.py prints
+    from the records in results/expert/."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("expert_reference", REPO / "benchmarks" / "expert_reference.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    table = module.table(REPO / "results" / "expert")
+    assert table.count("\n") >= 15, "premise: the records are there"
+    assert table in (REPO / "README.md").read_text(), "README expert table is stale: rerun the benchmark"

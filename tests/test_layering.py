@@ -3,6 +3,7 @@
 * the env core knows no task, prop, scene, demo, expert or policy;
 * the demonstration system knows no producer of demos (experts, policies) and no CLI;
 * tasks know no expert;
+* the evaluation protocol knows no policy, expert or baseline (it loads them by name);
 * nothing but the command line imports the command line.
 """
 
@@ -29,11 +30,26 @@ ENV_CORE = [
 ]
 
 RULES = [
-    (ENV_CORE, ("bigym.envs", "bigym.props", "bigym.scenes", "bigym.demonstrations", "bigym.experts",
-                "bigym.policies", "bigym.cli")),
-    (["demonstrations"], ("bigym.experts", "bigym.policies", "bigym.cli")),
-    (["envs", "props", "scenes"], ("bigym.experts", "bigym.policies", "bigym.demonstrations", "bigym.cli")),
-    (["experts", "policies.py"], ("bigym.cli",)),
+    (
+        ENV_CORE,
+        (
+            "bigym.envs",
+            "bigym.props",
+            "bigym.scenes",
+            "bigym.demonstrations",
+            "bigym.experts",
+            "bigym.policies",
+            "bigym.evaluation",
+            "bigym.cli",
+        ),
+    ),
+    (["demonstrations"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli")),
+    (
+        ["envs", "props", "scenes"],
+        ("bigym.experts", "bigym.policies", "bigym.demonstrations", "bigym.evaluation", "bigym.cli"),
+    ),
+    (["experts", "policies.py"], ("bigym.evaluation", "bigym.cli")),
+    (["evaluation"], ("bigym.experts", "bigym.policies", "bigym.baselines", "bigym.cli")),
 ]
 
 
@@ -56,7 +72,9 @@ def _imports(path: Path) -> list[str]:
     return names
 
 
-@pytest.mark.parametrize("parts, forbidden", RULES, ids=["env_core", "demonstrations", "tasks", "producers"])
+@pytest.mark.parametrize(
+    "parts, forbidden", RULES, ids=["env_core", "demonstrations", "tasks", "producers", "evaluation"]
+)
 def test_layers_point_down(parts, forbidden):
     files = _files(parts)
     assert len(files) >= len(parts), "premise: the layer's files exist"

@@ -98,7 +98,9 @@ def run(
     seed: Annotated[int, typer.Option(help="Seed of the first episode; episode k uses seed + k.")] = 0,
     control_frequency: Annotated[float, typer.Option(help="Control rate in Hz (20-500).")] = 50,
     absolute: Annotated[bool, typer.Option(help="Absolute joint targets instead of deltas.")] = False,
-    whole_body: Annotated[bool, typer.Option(help="Whole-body mode (legs actuated) instead of the floating base.")] = False,
+    whole_body: Annotated[
+        bool, typer.Option(help="Whole-body mode (legs actuated) instead of the floating base.")
+    ] = False,
     video: Annotated[Path | None, typer.Option(help="Write an mp4 of the external camera here.")] = None,
 ) -> None:
     """Roll out a policy, print the success rate, optionally write a video."""
@@ -175,8 +177,10 @@ def props_gallery(out_dir: Annotated[Path, typer.Argument(help="Folder for the P
 
 
 from bigym.cli.demos import demos_app  # noqa: E402
+from bigym.cli.evaluate import eval_command  # noqa: E402
 
 app.add_typer(demos_app, name="demos")
+app.command("eval")(eval_command)
 
 
 def main() -> None:

@@ -101,6 +101,8 @@ class Expert:
     tasks: ClassVar[tuple[str, ...]] = ()
     #: speed-up per task (1 = the style's own pace)
     pace: ClassVar[dict[str, float]] = {}
+    #: the expert plans from the simulator state (env.data), not from observations
+    reads_simulator: ClassVar[bool] = True
 
     def __init__(self, env, seed: int | None = None, style: HumanStyle | None = None, ik_rate: float = 100.0) -> None:
         self.env = env.unwrapped
@@ -128,6 +130,12 @@ class Expert:
         self.choices: dict[str, Any] = {}
 
     # ------------------------------------------------------------------ lifecycle
+    def reset(self, seed: int | None) -> None:
+        """Draw the next episode's choices from ``seed`` (the policy interface of
+        :mod:`bigym.evaluation`); the plan starts on the first step."""
+        self.seed = seed
+        self._started = False
+
     def start(self) -> None:
         """(Re)start for the env's current episode (called on the first step after reset)."""
         self.rng = np.random.default_rng(self.seed)

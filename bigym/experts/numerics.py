@@ -15,9 +15,9 @@ processes started with :func:`pinned_environment`.
 
 from __future__ import annotations
 
-import contextlib
-import os
 import platform
+
+from bigym.child_environment import child_environment
 
 #: numpy's dispatch targets above the x86-64-v2 baseline (names of numpy >= 2.4 and older ones)
 _NUMPY_FEATURES_ABOVE_BASELINE = (
@@ -45,21 +45,10 @@ def pinned_settings() -> dict[str, str]:
     return settings
 
 
-@contextlib.contextmanager
 def pinned_environment():
     """Set :func:`pinned_settings` in ``os.environ`` while worker processes are started
     (spawned children inherit it), and restore the previous values afterwards."""
-    settings = pinned_settings()
-    previous = {name: os.environ.get(name) for name in settings}
-    os.environ.update(settings)
-    try:
-        yield settings
-    finally:
-        for name, value in previous.items():
-            if value is None:
-                os.environ.pop(name, None)
-            else:
-                os.environ[name] = value
+    return child_environment(pinned_settings())
 
 
 def numerics_pinned() -> bool:

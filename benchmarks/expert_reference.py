@@ -1,0 +1,63 @@
+"""The scripted experts on every task's official evaluation: the reference the README quotes.
+
+Run: ``python benchmarks/expert_reference.py [--out results/expert] [--task T ...]
+[--workers W]``. Each task's full record (every episode) is written to
+``<out>/<Task>.json`` by the same code as ``bigym eval TASK --policy expert --json``; a
+task whose record exists is not run again (delete it to re-run), so the command resumes
+where it stopped. It ends by printing the Markdown table of all records in ``<out>``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+from pathlib import Path
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+from bigym.evaluation import EvaluationResult, evaluate  # noqa: E402
+from bigym.experts import EXPERTS  # noqa: E402
+
+
+def table(out: Path) -> str:
+    lines = [
+        "| task | expert success | 95% interval | mean episode | time limit | outcomes other than success |",
+        "|---|---:|---:|---:|---:|---|",
+    ]
+    for task in EXPERTS:
+        path = out / f"{task}.json"
+        if not path.exists():
+            continue
+        result = EvaluationResult.load(path)
+        s = result.summary
+        low, high = s.interval
+        others = ", ".join(f"{k.replace('_', ' ')} {v}" for k, v in s.outcomes.items() if v and k != "success")
+        official = "" if result.official else " (unofficial)"
+        lines.append(
+            f"| {task}{official} | {s.successes}/{s.episodes} | {100 * low:.0f}-{100 * high:.0f}% "
+            f"| {s.mean_sim_time:.1f} s | {result.fingerprint['time_limit']:g} s | {others or '-'} |"
+        )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--out", type=Path, default=Path("results/expert"))
+    parser.add_argument("--task", action="append", help="only these tasks (class names); default: every expert's")
+    parser.add_argument("--workers", type=int, default=None)
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    for task in args.task or list(EXPERTS):
+        path = args.out / f"{task}.json"
+        if path.exists():
+            continue
+        result = evaluate("bigym.experts:make_expert", task, workers=args.workers)
+        result.save(path)
+        print(f"{task}: {result.summary.line()} ({result.wall_time:.0f} s wall)", flush=True)
+    print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
+    print(table(args.out))
+
+
+if __name__ == "__main__":
+    main()
