@@ -126,10 +126,13 @@ def _owned_gl_contexts() -> set[int]:
 def _foreign_egl_context_alive(egl_module) -> bool:
     """Is an EGL context alive that no OffscreenGL owns? (Scans the heap: fork time only.)"""
     owned = _owned_gl_contexts()
-    return any(
-        isinstance(obj, egl_module.GLContext) and getattr(obj, "_context", None) and id(obj) not in owned
-        for obj in gc.get_objects()
-    )
+    # Looking at every object can touch deprecated ones (torch's reduce_op warns): not ours to report.
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        return any(
+            isinstance(obj, egl_module.GLContext) and getattr(obj, "_context", None) and id(obj) not in owned
+            for obj in gc.get_objects()
+        )
 
 
 _display_released_for_fork = False

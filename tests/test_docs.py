@@ -65,7 +65,10 @@ def test_readme_setup_commands_match_ci():
     """The README's test command is the one .ci/run runs."""
     readme = (REPO / "README.md").read_text()
     ci = (REPO / ".ci" / "run").read_text()
-    command = 'python3 -m venv .venv && . .venv/bin/activate && pip install -e ".[dev]" && python -m pytest -q'
+    command = (
+        "python3 -m venv .venv && . .venv/bin/activate && pip install torch==2.13.0 && "
+        'pip install -e ".[dev,train]" && python -m pytest -q'
+    )
     assert command in readme and command in ci
 
 

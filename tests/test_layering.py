@@ -4,6 +4,7 @@
 * the demonstration system knows no producer of demos (experts, policies) and no CLI;
 * tasks know no expert;
 * the evaluation protocol knows no policy, expert or baseline (it loads them by name);
+* the baselines know no expert and no evaluation (they learn from demos, and are evaluated by name);
 * nothing but the command line imports the command line.
 """
 
@@ -50,6 +51,7 @@ RULES = [
     ),
     (["experts", "policies.py"], ("bigym.evaluation", "bigym.cli")),
     (["evaluation"], ("bigym.experts", "bigym.policies", "bigym.baselines", "bigym.cli")),
+    (["baselines"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli")),
 ]
 
 
@@ -73,7 +75,7 @@ def _imports(path: Path) -> list[str]:
 
 
 @pytest.mark.parametrize(
-    "parts, forbidden", RULES, ids=["env_core", "demonstrations", "tasks", "producers", "evaluation"]
+    "parts, forbidden", RULES, ids=["env_core", "demonstrations", "tasks", "producers", "evaluation", "baselines"]
 )
 def test_layers_point_down(parts, forbidden):
     files = _files(parts)

@@ -24,6 +24,28 @@ def _fail(message: str) -> None:
     raise typer.Exit(code=1)
 
 
+def progress_columns(*fields: str) -> tuple:
+    """The columns of every long command's bar: what, bar, done/total, ``fields``, times."""
+    from rich.progress import TimeRemainingColumn
+
+    extra = tuple(TextColumn(f) for f in fields)
+    return (TextColumn("{task.description}"), BarColumn(), MofNCompleteColumn(), *extra, TimeElapsedColumn(),
+            TimeRemainingColumn())  # fmt: skip
+
+
+def camera_names(cameras: str | None, depth: bool) -> list[str]:
+    """``--cameras head,left_wrist`` as a list of robot cameras (exit 1 on unknown names)."""
+    from bigym.robot.h1 import CAMERAS
+
+    names = [n.strip() for n in cameras.split(",") if n.strip()] if cameras else []
+    unknown = [n for n in names if n not in CAMERAS]
+    if unknown:
+        _fail(f"unknown camera(s) {', '.join(unknown)}; the robot's cameras are {', '.join(CAMERAS)}")
+    if depth and not names:
+        _fail("--depth needs --cameras")
+    return names
+
+
 def task_class(name: str) -> type:
     """Resolve a task by class name, snake_case name or gymnasium id (exit 1 if unknown)."""
     from bigym.demonstrations.errors import DemoError
@@ -178,9 +200,11 @@ def props_gallery(out_dir: Annotated[Path, typer.Argument(help="Folder for the P
 
 from bigym.cli.demos import demos_app  # noqa: E402
 from bigym.cli.evaluate import eval_command  # noqa: E402
+from bigym.cli.train import train_command  # noqa: E402
 
 app.add_typer(demos_app, name="demos")
 app.command("eval")(eval_command)
+app.command("train")(train_command)
 
 
 def main() -> None:

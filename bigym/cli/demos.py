@@ -515,8 +515,12 @@ def stats(
     task: Annotated[str, typer.Argument(help="Task name.")],
     n: Annotated[int, typer.Option("-n", "--n", min=2, help="Demos to measure.")] = 20,
     seed: Annotated[int, typer.Option(help="First seed of fresh expert episodes.")] = 0,
-    source: Annotated[str, typer.Option(help="store: the store's demos of the task; fresh: new expert episodes.")] = "store",
-    plain: Annotated[bool, typer.Option(help="Compare with the plain straight-line, constant-speed controller.")] = True,
+    source: Annotated[
+        str, typer.Option(help="store: the store's demos of the task; fresh: new expert episodes.")
+    ] = "store",
+    plain: Annotated[
+        bool, typer.Option(help="Compare with the plain straight-line, constant-speed controller.")
+    ] = True,
     plot: Annotated[Path | None, typer.Option(help="PNG of the wrist paths seen from above.")] = None,
     as_json: Annotated[Path | None, typer.Option("--json", help="Also write the figures as JSON here.")] = None,
     store: StoreOption = None,
@@ -559,7 +563,9 @@ def dataset_build(
     task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
     workers: Annotated[int | None, typer.Option(min=1, help="Processes (default: CPU count, at most 8).")] = None,
     resume: Annotated[bool, typer.Option(help="Skip tasks whose files OUT already holds complete.")] = True,
-    update_manifest: Annotated[bool, typer.Option(help="Maintainers: merge the result into the shipped manifest.")] = False,
+    update_manifest: Annotated[
+        bool, typer.Option(help="Maintainers: merge the result into the shipped manifest.")
+    ] = False,
 ) -> None:
     """Regenerate the expert dataset into OUT, task by task (an interrupted build resumes
     where it stopped), and compare it, file by file, with the manifest this bigym ships."""
@@ -593,7 +599,9 @@ def dataset_build(
 @dataset_app.command("table")
 @_handle_errors
 def dataset_table_command(
-    store: Annotated[str | None, typer.Argument(help="Store URL or folder holding the dataset (default: the local store).")] = None,
+    store: Annotated[
+        str | None, typer.Argument(help="Store URL or folder holding the dataset (default: the local store).")
+    ] = None,
     task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
 ) -> None:
     """Print the README's dataset table (Markdown): generator success and build time from

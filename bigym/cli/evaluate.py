@@ -6,7 +6,7 @@ from pathlib import Path
 from typing import Annotated
 
 import typer
-from rich.progress import BarColumn, MofNCompleteColumn, Progress, TextColumn, TimeElapsedColumn, TimeRemainingColumn
+from rich.progress import Progress
 from rich.table import Table
 
 #: policy names the command knows, and the factory each stands for
@@ -18,11 +18,21 @@ BUILT_IN_POLICIES = {
 }
 
 
-def policy_spec(policy: str, task: str) -> str:
-    """The factory name for ``--policy`` (a built-in name or ``module:function``), checked here
-    so that a typo fails before any worker starts."""
+def is_checkpoint(policy: str) -> bool:
+    return ":" not in policy and Path(policy).suffix == ".pt"
+
+
+def policy_spec(policy: str, task: str):
+    """The factory for ``--policy`` (a built-in name, ``module:function`` or a checkpoint
+    file), checked here so that a typo fails before any worker starts."""
     from bigym.evaluation import PolicyLoadError, load_factory
 
+    if is_checkpoint(policy):
+        from bigym.baselines import checkpoint_factory
+
+        if not Path(policy).is_file():
+            raise PolicyLoadError(f"no checkpoint at {policy}")
+        return checkpoint_factory(policy)
     if policy in BUILT_IN_POLICIES:
         if policy == "expert":
             from bigym.experts import EXPERTS
@@ -32,8 +42,8 @@ def policy_spec(policy: str, task: str) -> str:
         return BUILT_IN_POLICIES[policy]
     if ":" not in policy:
         raise PolicyLoadError(
-            f"--policy {policy!r}: give one of {', '.join(BUILT_IN_POLICIES)}, or a factory as "
-            "'package.module:function' or 'path/to/file.py:function'"
+            f"--policy {policy!r}: give one of {', '.join(BUILT_IN_POLICIES)}, a checkpoint (.pt) of "
+            "`bigym train`, or a factory as 'package.module:function' or 'path/to/file.py:function'"
         )
     load_factory(policy)
     return policy
@@ -42,7 +52,8 @@ def policy_spec(policy: str, task: str) -> str:
 def eval_command(
     task: Annotated[str, typer.Argument(help="Task name, e.g. ReachTargetDual or reach_target_dual.")],
     policy: Annotated[
-        str, typer.Option(help="expert | random | hold | reach | module:factory | path/to/file.py:factory.")
+        str,
+        typer.Option(help="expert | random | hold | reach | CHECKPOINT.pt | module:factory | path/to/file.py:factory."),
     ] = "expert",
     episodes: Annotated[
         int, typer.Option(min=1, help="Episodes: the first N seeds of the official block (100).")
@@ -52,49 +63,60 @@ def eval_command(
     ] = None,
     vector: Annotated[str | None, typer.Option(help="Run a gymnasium vector env per worker: sync | async.")] = None,
     envs_per_worker: Annotated[int, typer.Option(min=1, help="Sub-envs per vector env.")] = 2,
-    control_frequency: Annotated[float, typer.Option(help="Control rate in Hz (the protocol's: 50).")] = 50,
+    control_frequency: Annotated[
+        float | None, typer.Option(help="Control rate in Hz (the protocol's: 50; a checkpoint's own).")
+    ] = None,
     delta: Annotated[bool, typer.Option(help="Delta joint targets instead of absolute ones.")] = False,
     cameras: Annotated[
         str | None, typer.Option(help="Robot cameras the policy sees, comma-separated: head,left_wrist,right_wrist.")
     ] = None,
     depth: Annotated[bool, typer.Option(help="Depth images too (with --cameras).")] = False,
     privileged: Annotated[bool, typer.Option(help="Give the policy the task's object state.")] = False,
+    trained_observations: Annotated[
+        bool, typer.Option(help="With a checkpoint: the observations, action mode and rate it was trained with.")
+    ] = True,
     video: Annotated[Path | None, typer.Option(help="Folder for mp4 videos of the first episodes.")] = None,
     videos: Annotated[int, typer.Option(min=0, help="How many episodes to film (with --video).")] = 3,
     json_out: Annotated[Path | None, typer.Option("--json", help="Write the full record (every episode) here.")] = None,
 ) -> None:
     """Evaluate a policy on a task's official seeds; print success with its 95% interval."""
     from bigym.action_modes import JointPositionActionMode
-    from bigym.cli.app import _fail, console, task_class
+    from bigym.cli.app import _fail, camera_names, console, progress_columns, task_class
     from bigym.evaluation import EvaluationError, PolicyLoadError, evaluate
     from bigym.observations import CameraConfig, ObservationConfig
-    from bigym.robot.h1 import CAMERAS
 
     cls = task_class(task)
     try:
         spec = policy_spec(policy, cls.__name__)
+    except ImportError as error:
+        _fail(f"checkpoints need torch: pip install 'bigym[train]' ({error})")
     except PolicyLoadError as error:
         _fail(str(error))
-    names = [n.strip() for n in cameras.split(",") if n.strip()] if cameras else []
-    unknown = [n for n in names if n not in CAMERAS]
-    if unknown:
-        _fail(f"unknown camera(s) {', '.join(unknown)}; the robot's cameras are {', '.join(CAMERAS)}")
-    if depth and not names:
-        _fail("--depth needs --cameras")
+    names = camera_names(cameras, depth)
     if json_out is not None and json_out.exists() and json_out.is_dir():
         _fail(f"--json {json_out} is a folder; give a file name")
     config = ObservationConfig(
         cameras=tuple(CameraConfig(n, rgb=True, depth=depth, resolution=(84, 84)) for n in names),
         privileged_information=privileged,
     )
-    columns = (
-        TextColumn("{task.description}"),
-        BarColumn(),
-        MofNCompleteColumn(),
-        TextColumn("{task.fields[successes]} successes"),
-        TimeElapsedColumn(),
-        TimeRemainingColumn(),
-    )
+    action_mode = JointPositionActionMode(floating_base=True, absolute=not delta)
+    if is_checkpoint(policy) and trained_observations:
+        if names or depth or privileged or delta:
+            _fail(
+                "a checkpoint brings its own observations and action mode: drop --cameras, --depth, "
+                "--privileged and --delta, or pass --no-trained-observations"
+            )
+        from bigym.action_modes import action_mode_from_dict
+        from bigym.baselines import Checkpoint
+
+        try:
+            trained = Checkpoint.load(policy)
+        except (OSError, ValueError) as error:
+            _fail(str(error))
+        config = ObservationConfig.from_dict(trained.observation_config)
+        action_mode = action_mode_from_dict(trained.action_mode)
+        control_frequency = control_frequency if control_frequency is not None else trained.frequency
+    columns = progress_columns("{task.fields[successes]} successes")
     try:
         with Progress(*columns, console=console) as progress:
             bar = progress.add_task(f"{cls.__name__} ({policy})", total=episodes, successes=0)
@@ -112,8 +134,8 @@ def eval_command(
                 workers=workers,
                 vector=vector,
                 envs_per_worker=envs_per_worker,
-                control_frequency=control_frequency,
-                action_mode=JointPositionActionMode(floating_base=True, absolute=not delta),
+                control_frequency=control_frequency if control_frequency is not None else 50.0,
+                action_mode=action_mode,
                 observation_config=config,
                 video_dir=video,
                 videos=videos if video is not None else 0,

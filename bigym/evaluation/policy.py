@@ -20,6 +20,7 @@ in another process, and such a policy is refused rather than silently blind.
 
 from __future__ import annotations
 
+import functools
 import importlib
 import importlib.util
 import pickle
@@ -100,9 +101,13 @@ def check_portable(spec: str | PolicyFactory) -> None:
 
 
 def describe(spec: str | PolicyFactory) -> str:
-    """A name for the policy in results: the spec string, or ``module:qualname``."""
+    """A name for the policy in results: the spec string, or ``module:qualname`` (with the
+    bound arguments of a ``functools.partial``)."""
     if isinstance(spec, str):
         return spec
+    if isinstance(spec, functools.partial):
+        arguments = [repr(a) for a in spec.args] + [f"{k}={v!r}" for k, v in spec.keywords.items()]
+        return f"{describe(spec.func)}({', '.join(arguments)})"
     module = getattr(spec, "__module__", None) or "?"
     name = getattr(spec, "__qualname__", None) or type(spec).__name__
     return f"{module}:{name}"

@@ -1,0 +1,124 @@
+"""Train and evaluate the baselines, task by task: the results table of the README.
+
+Run: ``python benchmarks/baselines.py --store STORE [--method bc --method act ...]
+[--task DrawerTopOpen ...] [--work DIR] [--out results/baselines]``. For every method and
+task it trains on 50 demos (``bigym train``), evaluates the checkpoint on the official 100
+seeds (``bigym eval``) and writes ``<out>/<method>-<Task>.json`` (the evaluation record and
+how it was trained). Checkpoints go to ``--work`` (default ``$BIGYM_HOME/baselines``); a
+pair whose record exists is skipped and an interrupted training resumes, so the command can
+be stopped and started again. It ends by printing the Markdown table of all records in
+``<out>``. ``--all-tasks`` runs every task the store has demos for (on a GPU machine, set
+``--steps`` higher and ``--workers`` to the CPU count).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import platform
+import time
+from pathlib import Path
+
+os.environ.setdefault("MUJOCO_GL", "egl")
+
+from bigym.baselines import checkpoint_factory, train  # noqa: E402
+from bigym.demonstrations import DemoStore  # noqa: E402
+from bigym.evaluation import EvaluationResult, evaluate  # noqa: E402
+from bigym.observations import ObservationConfig  # noqa: E402
+
+TASKS = (
+    "ReachTargetMultiModal",
+    "ReachTargetDual",
+    "DrawerTopOpen",
+    "DrawerTopClose",
+    "DishwasherClose",
+    "WallCupboardOpen",
+)
+#: training steps per method on a 2-core CPU (a few minutes to a quarter of an hour per task)
+STEPS = {"bc": 20_000, "act": 10_000, "dp": 10_000}
+
+
+def run(method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int):
+    name = f"{method}{'-pixels' if cameras else ''}-{task}"
+    record = out / f"{name}.json"
+    if record.exists():
+        return
+    checkpoint_path = work / f"{name}.pt"
+    started = time.perf_counter()
+    checkpoint = train(
+        method, task, checkpoint_path, demos=50, cameras=cameras, privileged=not cameras, store=store,
+        settings={"steps": steps}, checkpoint_every=1000, workers=workers,
+    )  # fmt: skip
+    config = ObservationConfig.from_dict(checkpoint.observation_config)
+    result = evaluate(checkpoint_factory(checkpoint_path), task, workers=workers, observation_config=config)
+    data = {
+        "method": method,
+        "task": task,
+        "training": {
+            "demos": len(checkpoint.demos),
+            "steps": checkpoint.step,
+            "seconds": checkpoint.train_seconds,
+            "final_loss": checkpoint.losses[-1][1],
+            "config": checkpoint.config,
+        },
+        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs",
+        "evaluation": result.to_dict(),
+    }
+    record.parent.mkdir(parents=True, exist_ok=True)
+    record.write_text(json.dumps(data, indent=1) + "\n")
+    print(f"{name}: {result.summary.line()} ({(time.perf_counter() - started) / 60:.1f} min)", flush=True)
+
+
+def table(out: Path) -> str:
+    lines = [
+        "| task | method | observations | success | 95% interval | demos | steps | training |",
+        "|---|---|---|---:|---:|---:|---:|---:|",
+    ]
+    for path in sorted(out.glob("*.json")):
+        data = json.loads(path.read_text())
+        result = EvaluationResult.from_dict(data["evaluation"])
+        s, training = result.summary, data["training"]
+        low, high = s.interval
+        official = "" if result.official else " (unofficial)"
+        track = result.fingerprint["track"]
+        lines.append(
+            f"| {data['task']} | {data['method']} | {track} | {s.successes}/{s.episodes}{official} "
+            f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
+            f"| {training['seconds'] / 60:.0f} min |"
+        )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--store", help="demo store with the dataset (default: the local store)")
+    parser.add_argument("--method", action="append", choices=sorted(STEPS), help="default: bc, act, dp")
+    parser.add_argument("--task", action="append", help=f"default: {', '.join(TASKS)}")
+    parser.add_argument("--all-tasks", action="store_true", help="every task the store has demos for")
+    parser.add_argument("--pixels", action="append", default=[], help="also train ACT from the 3 cameras on this task")
+    parser.add_argument("--steps", type=int, help="training steps for every method (default: per method)")
+    parser.add_argument("--work", type=Path, default=None, help="checkpoints (default: $BIGYM_HOME/baselines)")
+    parser.add_argument("--out", type=Path, default=Path("results/baselines"))
+    parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--table-only", action="store_true", help="print the table of the existing records")
+    args = parser.parse_args()
+    if not args.table_only:
+        home = Path(os.environ.get("BIGYM_HOME", Path.home() / ".cache" / "bigym"))
+        work = args.work or home / "baselines"
+        store = DemoStore(args.store)
+        tasks = args.task or list(TASKS)
+        if args.all_tasks:
+            tasks = sorted({entry.task for entry in store.entries()})
+        for task in tasks:
+            for method in args.method or ["bc", "act", "dp"]:
+                run(method, task, store, work, args.out, args.steps or STEPS[method], (), args.workers)
+        for task in args.pixels:
+            cameras = ("head", "left_wrist", "right_wrist")
+            run("act", task, store, work, args.out, args.steps or STEPS["act"], cameras, args.workers)
+    print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
+    print(table(args.out))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,1 @@
+"""Behaviour cloning with action chunks: an MLP from the observation to the next H actions."""

@@ -1,0 +1,25 @@
+"""What every baseline shares: the settings of a training run and the chunk loss."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import torch
+
+
+@dataclass
+class TrainConfig:
+    """Settings common to the methods (each method's config adds its own)."""
+
+    chunk: int = 16  # actions predicted per observation (the paper: 16)
+    batch_size: int = 64
+    steps: int = 20_000
+    lr: float = 1e-4  # the paper's Adam learning rate
+    weight_decay: float = 1e-4
+    hidden: int = 256
+
+
+def masked_l1(predicted: torch.Tensor, target: torch.Tensor, pad: torch.Tensor) -> torch.Tensor:
+    """Mean absolute error over the real (not padded) steps of each chunk."""
+    keep = (~pad).unsqueeze(-1).float()
+    return ((predicted - target).abs() * keep).sum() / (keep.sum() * predicted.shape[-1]).clamp(min=1.0)

@@ -1,0 +1,45 @@
+"""The baseline methods by name: each is a config class and a model class in its own folder."""
+
+from __future__ import annotations
+
+import dataclasses
+from typing import Any
+
+from bigym.baselines.act.config import ACTConfig
+from bigym.baselines.act.model import ACTModel
+from bigym.baselines.bc.config import BCConfig
+from bigym.baselines.bc.model import BCModel
+from bigym.baselines.common import TrainConfig
+from bigym.baselines.dp.config import DPConfig
+from bigym.baselines.dp.model import DPModel
+
+METHODS: dict[str, tuple[type[TrainConfig], type]] = {
+    "bc": (BCConfig, BCModel),
+    "act": (ACTConfig, ACTModel),
+    "dp": (DPConfig, DPModel),
+}
+
+
+def method_classes(method: str) -> tuple[type[TrainConfig], type]:
+    try:
+        return METHODS[method]
+    except KeyError:
+        raise ValueError(f"unknown method {method!r}; choose from {', '.join(METHODS)}") from None
+
+
+def make_config(method: str, overrides: dict[str, Any] | None = None) -> TrainConfig:
+    """The method's default config with ``overrides`` (unknown names are an error)."""
+    config_class, _ = method_classes(method)
+    names = {f.name for f in dataclasses.fields(config_class)}
+    unknown = sorted(set(overrides or {}) - names)
+    if unknown:
+        raise ValueError(f"{method} has no setting {', '.join(unknown)}; its settings: {', '.join(sorted(names))}")
+    values = dict(overrides or {})
+    if "channels" in values:
+        values["channels"] = tuple(values["channels"])
+    return config_class(**values)
+
+
+def make_model(method: str, config: TrainConfig, state_dim: int, action_dim: int, image_shapes: dict):
+    _, model_class = method_classes(method)
+    return model_class(config, state_dim, action_dim, image_shapes)

@@ -1,0 +1,165 @@
+"""The baselines: training lowers the loss, resumes to the same weights, round-trips its
+checkpoint, and the checkpoint acts in ``evaluate`` and ``bigym eval``."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import torch
+from typer.testing import CliRunner
+
+from bigym.action_modes import JointPositionActionMode
+from bigym.baselines import Checkpoint, ChunkPolicy, checkpoint_factory, load_policy, temporal_ensemble, train
+from bigym.cli import app
+from bigym.envs.reach_target import ReachTargetDual, ReachTargetMultiModal
+from bigym.evaluation import evaluate
+from bigym.observations import ObservationConfig
+
+SMALL = {
+    "bc": {"hidden": 64, "layers": 2, "batch_size": 32},
+    "act": {"hidden": 32, "heads": 2, "encoder_layers": 1, "decoder_layers": 1, "feedforward": 64, "batch_size": 32},
+    "dp": {"hidden": 32, "channels": [16, 32], "batch_size": 32, "inference_steps": 4},
+}
+STATE = ObservationConfig(privileged_information=True)
+TASK = "ReachTargetMultiModal"  # the demo_store fixture's task
+
+
+def small_run(method, demo_store, out, steps, **kwargs):
+    settings = {**SMALL[method], "steps": steps, "chunk": 8}
+    return train(method, TASK, out, demos=4, store=demo_store, settings=settings, **kwargs)
+
+
+@pytest.mark.parametrize("method", ["bc", "act", "dp"])
+def test_training_lowers_the_loss_and_the_checkpoint_acts(method, demo_store, tmp_path):
+    checkpoint = small_run(method, demo_store, tmp_path / "model.pt", 300, checkpoint_every=100)
+    losses = [loss for _, loss in checkpoint.losses]
+    assert checkpoint.step == 300 and len(losses) == 6
+    assert losses[-1] < 0.7 * losses[0], losses
+    assert checkpoint.task == TASK and len(checkpoint.demos) == 4
+    assert "target_position" in checkpoint.state_keys
+
+    env = ReachTargetMultiModal(
+        action_mode=JointPositionActionMode(floating_base=True, absolute=True), observation_config=STATE
+    )
+    try:
+        policy = load_policy(env, tmp_path / "model.pt")
+        obs, _ = env.reset(seed=5)
+        policy.reset(5)
+        first = [policy(obs) for _ in range(3)]
+        policy.reset(5)
+        again = [policy(obs) for _ in range(3)]
+        assert all(np.array_equal(a, b) for a, b in zip(first, again)), "reset(seed) repeats the actions"
+        assert all(env.action_space.contains(a) for a in first)
+    finally:
+        env.close()
+
+
+def test_resuming_gives_the_weights_of_an_uninterrupted_run(demo_store, tmp_path):
+    for method in ("bc", "act"):
+        straight = small_run(method, demo_store, tmp_path / f"{method}-straight.pt", 120, checkpoint_every=60)
+        small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 60)
+        resumed = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120, checkpoint_every=60)
+        assert resumed.step == 120
+        for name, tensor in straight.model.items():
+            assert torch.equal(tensor, resumed.model[name]), (method, name)
+        again = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120)
+        assert again.step == 120, "a finished run is not trained again"
+    with pytest.raises(ValueError, match="different training run"):
+        train("bc", TASK, tmp_path / "bc-resumed.pt", demos=4, store=demo_store, settings={"steps": 200})
+
+
+def test_checkpoint_round_trip_and_errors(demo_store, tmp_path):
+    path = tmp_path / "model.pt"
+    trained = small_run("bc", demo_store, path, 50)
+    loaded = Checkpoint.load(path)
+    batch = {"state": torch.randn(3, loaded.state_dim)}
+    with torch.no_grad():
+        assert torch.equal(trained.build_model().eval().predict(batch), loaded.build_model().eval().predict(batch))
+    assert np.array_equal(loaded.make_normalizer().action_center, trained.make_normalizer().action_center)
+    (tmp_path / "junk.pt").write_bytes(b"not a checkpoint")
+    with pytest.raises(ValueError, match="not a readable bigym checkpoint"):
+        Checkpoint.load(tmp_path / "junk.pt")
+    with pytest.raises(FileNotFoundError):
+        Checkpoint.load(tmp_path / "missing.pt")
+    for env, message in [
+        (ReachTargetDual(observation_config=STATE), "trained on ReachTargetMultiModal"),
+        (ReachTargetMultiModal(action_mode=JointPositionActionMode(absolute=True)), "lack target_position"),
+        (ReachTargetMultiModal(observation_config=STATE), "action mode"),
+    ]:
+        with pytest.raises(ValueError, match=message):
+            ChunkPolicy(env, loaded)
+        env.close()
+    with pytest.raises(ValueError, match="no setting"):
+        train("bc", TASK, tmp_path / "x.pt", store=demo_store, settings={"widht": 3})
+    with pytest.raises(ValueError, match="unknown method"):
+        train("gpt", TASK, tmp_path / "x.pt", store=demo_store)
+
+
+def test_temporal_ensemble_weighs_the_oldest_prediction_most():
+    old, new = np.zeros(2), np.ones(2)
+    assert np.array_equal(temporal_ensemble([old], 0.5), old)
+    mixed = temporal_ensemble([old, new], 0.5)
+    assert np.allclose(mixed, np.exp(-0.5) / (1 + np.exp(-0.5)))
+    assert np.allclose(temporal_ensemble([old, new], 0.0), 0.5)
+
+
+def test_a_checkpoint_in_evaluate_and_bigym_eval(demo_store, tmp_path):
+    path = tmp_path / "model.pt"
+    small_run("bc", demo_store, path, 50)
+    result = evaluate(checkpoint_factory(path), TASK, episodes=2, workers=1, observation_config=STATE)
+    assert len(result.episodes) == 2 and result.fingerprint["track"] == "state"
+    assert "load_policy" in result.policy and "model.pt" in result.policy
+    out = tmp_path / "result.json"
+    cli = CliRunner().invoke(app, ["eval", TASK, "--policy", str(path), "--episodes", "2", "--workers", "1",
+                                   "--json", str(out)])  # fmt: skip
+    assert cli.exit_code == 0, cli.output
+    record = json.loads(out.read_text())
+    assert record["fingerprint"]["track"] == "state", "the checkpoint's observations were used"
+    assert [e["start"] for e in record["episodes"]] == [e.start for e in result.episodes]
+    cli = CliRunner().invoke(app, ["eval", TASK, "--policy", str(path), "--privileged"])
+    assert cli.exit_code == 1 and "brings its own observations" in cli.output
+
+
+def test_bigym_train_command(demo_store, tmp_path):
+    out = tmp_path / "cli.pt"
+    args = ["train", "bc", "reach_target_multi_modal", "--store", str(demo_store.url), "--demos", "4", "--steps", "60",
+            "--set", "hidden=32", "--set", "chunk=8", "--out", str(out)]  # fmt: skip
+    result = CliRunner().invoke(app, args)
+    assert result.exit_code == 0, result.output
+    assert "evaluate it: bigym eval ReachTargetMultiModal" in result.output
+    assert Checkpoint.load(out).config["hidden"] == 32
+    for bad, message in [
+        (["train", "gpt", "reach_target_multi_modal"], "unknown method"),
+        (["train", "bc", "reach_target_multi_modal", "--set", "oops"], "name=value"),
+        (["train", "bc", "reach_target_multi_modal", "--cameras", "tail"], "unknown camera(s) tail"),
+    ]:
+        result = CliRunner().invoke(app, bad)
+        assert result.exit_code == 1 and message in result.output, result.output
+
+
+def test_training_and_acting_from_a_camera(demo_store, tmp_path):
+    checkpoint = train(
+        "act", TASK, tmp_path / "pixels.pt", demos=2, store=demo_store, cameras=("head",), depth=True,
+        privileged=False, settings={**SMALL["act"], "steps": 20, "chunk": 4},
+    )  # fmt: skip
+    assert checkpoint.image_shapes == {"depth_head": [1, 84, 84], "rgb_head": [3, 84, 84]}
+    assert "target_position" not in checkpoint.state_keys
+    config = ObservationConfig.from_dict(checkpoint.observation_config)
+    env = ReachTargetMultiModal(action_mode=JointPositionActionMode(floating_base=True, absolute=True),
+                                observation_config=config)  # fmt: skip
+    try:
+        policy = load_policy(env, tmp_path / "pixels.pt")
+        obs, _ = env.reset(seed=1)
+        policy.reset(1)
+        action = policy(obs)
+        assert env.action_space.contains(action)
+        obs, *_ = env.step(action)
+        blind = dict(obs, rgb_head=np.zeros_like(obs["rgb_head"]))
+        policy.reset(1)
+        seeing = policy(obs)
+        policy.reset(1)
+        assert not np.array_equal(seeing, policy(blind)), "the image reaches the action"
+    finally:
+        env.close()
