@@ -18,6 +18,7 @@ from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from pathlib import Path
 from typing import Any, Callable
 
+import gymnasium as gym
 import numpy as np
 
 from bigym.child_environment import child_environment
@@ -98,6 +99,11 @@ def evaluate(
     )
     if vector is not None and vector not in VECTOR_MODES:
         raise ValueError(f"vector must be one of {VECTOR_MODES} or None, got {vector!r}")
+    if vector is not None and not hasattr(gym.vector, "AutoresetMode"):
+        raise ValueError(
+            f"evaluating in a vector env needs gymnasium >= 1.1 (sub-envs reset with their own seeds), "
+            f"this is {gym.__version__}: use workers instead"
+        )
     if envs_per_worker < 1:
         raise ValueError(f"envs_per_worker must be at least 1, got {envs_per_worker}")
     if video_dir is not None and vector is not None:
@@ -211,8 +217,6 @@ def _set_up_worker(settings, policy_spec, vector, envs_per_worker, video_dir, vi
         _worker.update(env=env, policy=make_policy(factory, env), vector=None)
         _worker["fingerprint"] = fingerprint(settings, env)
         return
-    import gymnasium as gym
-
     thunks = [lambda: make_env(settings)] * envs_per_worker
     if vector == "sync":
         vec = gym.vector.SyncVectorEnv(thunks, autoreset_mode=gym.vector.AutoresetMode.DISABLED)
