@@ -103,3 +103,15 @@ def test_readme_expert_table_is_the_committed_records():
     table = module.table(REPO / "results" / "expert")
     assert table.count("\n") >= 15, "premise: the records are there"
     assert table in (REPO / "README.md").read_text(), "README expert table is stale: rerun the benchmark"
+
+
+def test_readme_baseline_table_is_the_committed_records():
+    """The README's baseline results are what benchmarks/baselines.py prints from results/baselines/."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location("baselines_benchmark", REPO / "benchmarks" / "baselines.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    table = module.table(REPO / "results" / "baselines")
+    assert table.count("\n") >= 3, "premise: the records are there"
+    assert table in (REPO / "README.md").read_text(), "README baseline table is stale: rerun the benchmark"
