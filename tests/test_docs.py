@@ -92,26 +92,26 @@ def test_readme_main_job_runs_as_written(tmp_path):
     assert any(Path("videos").glob("*.mp4")), "the command writes videos of its first episodes"
 
 
+def _benchmark_table(script: str, records: str) -> str:
+    """The Markdown table a benchmark script prints from its committed records."""
+    import importlib.util
+
+    spec = importlib.util.spec_from_file_location(script, REPO / "benchmarks" / f"{script}.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module.table(REPO / "results" / records)
+
+
 def test_readme_expert_table_is_the_committed_records():
     """The README's expert reference table is what benchmarks/expert_reference.py prints
     from the records in results/expert/."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("expert_reference", REPO / "benchmarks" / "expert_reference.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    table = module.table(REPO / "results" / "expert")
+    table = _benchmark_table("expert_reference", "expert")
     assert table.count("\n") >= 15, "premise: the records are there"
     assert table in (REPO / "README.md").read_text(), "README expert table is stale: rerun the benchmark"
 
 
 def test_readme_baseline_table_is_the_committed_records():
     """The README's baseline results are what benchmarks/baselines.py prints from results/baselines/."""
-    import importlib.util
-
-    spec = importlib.util.spec_from_file_location("baselines_benchmark", REPO / "benchmarks" / "baselines.py")
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    table = module.table(REPO / "results" / "baselines")
+    table = _benchmark_table("baselines", "baselines")
     assert table.count("\n") >= 3, "premise: the records are there"
     assert table in (REPO / "README.md").read_text(), "README baseline table is stale: rerun the benchmark"

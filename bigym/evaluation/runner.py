@@ -134,12 +134,13 @@ def evaluate(
         finished,
     )
     with child_environment(_THREAD_SETTINGS), ProcessPoolExecutor(workers, context, _init_worker, init_args) as pool:
-        running = {pool.submit(_run_job, job) for job in jobs}
+        order = {pool.submit(_run_job, job): index for index, job in enumerate(jobs)}
+        running = set(order)
         try:
             while running:
                 done, running = wait(running, timeout=0.2, return_when=FIRST_COMPLETED)
                 _drain(finished, records, progress)
-                for future in done:
+                for future in sorted(done, key=order.get):  # the earliest job's error first, every time
                     worker_fingerprint, job_records = future.result()  # re-raises a worker's EvaluationError
                     fingerprints.append(worker_fingerprint)
                     for record in job_records:
@@ -322,10 +323,6 @@ def _run_vector(seeds: list[int]) -> list[EpisodeRecord]:
     idle_action = np.clip(np.zeros(space.shape, np.float32), space.low, space.high)  # for sub-envs without a seed
     records: list[EpisodeRecord] = []
 
-    def start(mask: np.ndarray, reset_seeds: list[int]):
-        obs, _ = vec.reset(seed=reset_seeds, options={"reset_mask": mask})
-        return obs
-
     # the first episodes: one seed per sub-env (sub-envs without one replay a seed, idle)
     first = [queue.pop(0) if queue else None for _ in range(n)]
     fill = first[0]
@@ -387,7 +384,7 @@ def _run_vector(seeds: list[int]) -> list[EpisodeRecord]:
             reset_seeds[i] = current[i] if current[i] is not None else fill
             steps[i] = 0
         if ended.any():
-            obs = start(ended, [s if s is not None else fill for s in reset_seeds])
+            obs, _ = vec.reset(seed=[s if s is not None else fill for s in reset_seeds], options={"reset_mask": ended})
             now = vec.call("state_digest")
             for i in np.flatnonzero(ended):
                 if current[i] is not None:
