@@ -8,7 +8,8 @@ The paper's API::
 
 Modules: :mod:`~bigym.demonstrations.demo` (file format), :mod:`~bigym.demonstrations.recorder`,
 :mod:`~bigym.demonstrations.player`, :mod:`~bigym.demonstrations.convert`,
-:mod:`~bigym.demonstrations.store`, :mod:`~bigym.demonstrations.export`. The ``bigym demos``
+:mod:`~bigym.demonstrations.store`, :mod:`~bigym.demonstrations.export`,
+:mod:`~bigym.demonstrations.transitions` (flat arrays for offline RL, d3rlpy). The ``bigym demos``
 commands live in :mod:`bigym.cli.demos` (this package knows no demo producer). Ray is imported only when a replay
 asks for ``backend="ray"``; pyarrow and h5py only when exporting.
 """

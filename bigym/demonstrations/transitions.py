@@ -1,0 +1,200 @@
+"""Demos as flat transition arrays: the layout offline-RL libraries read (d3rlpy, ...).
+
+Offline-RL libraries want one float vector per observation and actions in [-1, 1]: d3rlpy's
+policies are tanh-bounded and its evaluator rejects Dict observations, while bigym's actions
+are absolute joint targets (about [-1.6, 1.0] rad) and its observations a dict.
+:class:`FlatSpaces` fixes both maps for one env: observations flattened in the observation
+space's key order (the vector gymnasium's ``FlattenObservation`` gives), actions scaled from the
+action space's bounds to [-1, 1]. :func:`transitions` lays replayed demos out in those
+spaces with the rewards, terminals and timeouts the env gave; :meth:`Transitions.to_d3rlpy`
+hands them to d3rlpy (imported there only). A policy trained on them acts through the same
+:class:`FlatSpaces`: ``spaces.unscale(model(spaces.flatten(obs)))``.
+"""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterator, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from bigym.demonstrations.demo import ReplayedDemo
+from bigym.demonstrations.errors import DemoError
+
+IMAGE_PREFIXES = ("rgb_", "depth_")
+
+
+@dataclass(frozen=True)
+class FlatSpaces:
+    """How one env's observations become a flat vector and its actions a vector in [-1, 1]."""
+
+    keys: tuple[str, ...]
+    sizes: tuple[int, ...]
+    action_low: np.ndarray
+    action_high: np.ndarray
+
+    @classmethod
+    def from_env(cls, env) -> FlatSpaces:
+        """The maps for ``env``'s spaces; camera observations are refused (flat state only)."""
+        space = env.observation_space
+        images = [key for key in space.spaces if key.startswith(IMAGE_PREFIXES)]
+        if images:
+            raise DemoError(
+                f"flat transitions hold state observations only; this env also observes {', '.join(images)} "
+                "(make the env without cameras, or export images with export_lerobot / export_robomimic)"
+            )
+        low, high = np.asarray(env.action_space.low, np.float64), np.asarray(env.action_space.high, np.float64)
+        if not (np.all(np.isfinite(low)) and np.all(np.isfinite(high)) and np.all(high > low)):
+            raise DemoError("the action space needs finite bounds with high > low to be scaled to [-1, 1]")
+        keys = tuple(space.spaces)
+        sizes = tuple(int(np.prod(space.spaces[key].shape)) for key in keys)
+        return cls(keys, sizes, low, high)
+
+    @property
+    def observation_size(self) -> int:
+        return sum(self.sizes)
+
+    @property
+    def action_size(self) -> int:
+        return len(self.action_low)
+
+    def flatten(self, obs: dict[str, np.ndarray]) -> np.ndarray:
+        """One observation as a float32 vector."""
+        self._check_keys(obs)
+        return np.concatenate([np.asarray(obs[key], np.float32).reshape(-1) for key in self.keys])
+
+    def flatten_steps(self, observations: dict[str, np.ndarray]) -> np.ndarray:
+        """A sequence of observations (each entry with the steps as its first axis) as rows."""
+        self._check_keys(observations)
+        steps = len(observations[self.keys[0]])
+        parts = [np.asarray(observations[k], np.float32).reshape(steps, n) for k, n in zip(self.keys, self.sizes)]
+        return np.concatenate(parts, axis=1)
+
+    def _check_keys(self, obs: dict) -> None:
+        missing = [key for key in self.keys if key not in obs]
+        if missing:
+            raise DemoError(f"observation lacks {', '.join(missing)} (expected keys {', '.join(self.keys)})")
+
+    def scale(self, actions: np.ndarray) -> np.ndarray:
+        """Env actions to [-1, 1] (float32)."""
+        actions = np.asarray(actions, np.float64)
+        return (2.0 * (actions - self.action_low) / (self.action_high - self.action_low) - 1.0).astype(np.float32)
+
+    def unscale(self, scaled: np.ndarray) -> np.ndarray:
+        """Actions in [-1, 1] (clipped there first) back to env actions (float32)."""
+        scaled = np.clip(np.asarray(scaled, np.float64), -1.0, 1.0)
+        return (self.action_low + (scaled + 1.0) * 0.5 * (self.action_high - self.action_low)).astype(np.float32)
+
+    def to_dict(self) -> dict:
+        return {
+            "keys": list(self.keys),
+            "sizes": list(self.sizes),
+            "action_low": self.action_low.tolist(),
+            "action_high": self.action_high.tolist(),
+        }
+
+    @classmethod
+    def from_dict(cls, data: dict) -> FlatSpaces:
+        return cls(
+            tuple(data["keys"]),
+            tuple(int(s) for s in data["sizes"]),
+            np.asarray(data["action_low"], np.float64),
+            np.asarray(data["action_high"], np.float64),
+        )
+
+    def save(self, path: Path | str) -> None:
+        Path(path).write_text(json.dumps(self.to_dict(), indent=1) + "\n")
+
+    @classmethod
+    def load(cls, path: Path | str) -> FlatSpaces:
+        return cls.from_dict(json.loads(Path(path).read_text()))
+
+
+@dataclass
+class Transitions:
+    """Replayed demos as flat arrays, one row per action, episodes one after another.
+
+    Row ``t`` of an episode holds the observation before action ``t``, the action (scaled to
+    [-1, 1]), the reward it earned and whether it ended the episode: ``terminals`` where the
+    env terminated (success or failure), ``timeouts`` where the episode stopped without
+    terminating (time limit, or the end of the recording). ``next_observations`` hold the
+    observation after each action, including the final one.
+    """
+
+    observations: np.ndarray
+    next_observations: np.ndarray
+    actions: np.ndarray
+    rewards: np.ndarray
+    terminals: np.ndarray
+    timeouts: np.ndarray
+    episode_ends: np.ndarray
+    uuids: list[str]
+    spaces: FlatSpaces
+
+    def __len__(self) -> int:
+        return len(self.actions)
+
+    def episodes(self) -> Iterator[slice]:
+        """The rows of each episode."""
+        start = 0
+        for end in self.episode_ends:
+            yield slice(start, int(end))
+            start = int(end)
+
+    def to_d3rlpy(self):
+        """A ``d3rlpy.dataset.MDPDataset`` of these transitions (needs ``pip install "bigym[rl]"``)."""
+        try:
+            from d3rlpy.dataset import MDPDataset
+        except ImportError as error:
+            raise ImportError(f'to_d3rlpy needs d3rlpy: pip install "bigym[rl]" ({error})') from error
+        return MDPDataset(
+            observations=self.observations,
+            actions=self.actions,
+            rewards=self.rewards,
+            terminals=self.terminals,
+            timeouts=self.timeouts,
+        )
+
+
+def transitions(demos: Sequence[ReplayedDemo], env) -> Transitions:
+    """``demos`` (replayed into ``env``'s observations) as flat arrays in ``env``'s :class:`FlatSpaces`."""
+    if not demos:
+        raise DemoError("no demos to lay out as transitions")
+    spaces = FlatSpaces.from_env(env)
+    columns: dict[str, list[np.ndarray]] = {k: [] for k in ("obs", "next", "act", "rew", "term", "time")}
+    ends, total = [], 0
+    for demo in demos:
+        extra = sorted(set(demo.observations) - set(spaces.keys))
+        if extra:
+            raise DemoError(f"demo {demo.uuid} holds observations the env lacks: {', '.join(extra)}")
+        steps = len(demo.actions)
+        if demo.actions.shape[1] != spaces.action_size:
+            raise DemoError(
+                f"demo {demo.uuid} has {demo.actions.shape[1]} actions per step, the env takes {spaces.action_size}"
+            )
+        flat = spaces.flatten_steps(demo.observations)
+        terminals = np.asarray(demo.terminated, np.float32)
+        timeouts = np.zeros(steps, np.float32)
+        if steps and not terminals[-1]:
+            timeouts[-1] = 1.0  # truncated, or the recording ends: either way the episode stops here
+        columns["obs"].append(flat[:steps])
+        columns["next"].append(flat[1 : steps + 1])
+        columns["act"].append(spaces.scale(demo.actions))
+        columns["rew"].append(np.asarray(demo.rewards, np.float32))
+        columns["term"].append(terminals)
+        columns["time"].append(timeouts)
+        total += steps
+        ends.append(total)
+    return Transitions(
+        observations=np.concatenate(columns["obs"]),
+        next_observations=np.concatenate(columns["next"]),
+        actions=np.concatenate(columns["act"]),
+        rewards=np.concatenate(columns["rew"]),
+        terminals=np.concatenate(columns["term"]),
+        timeouts=np.concatenate(columns["time"]),
+        episode_ends=np.asarray(ends, np.int64),
+        uuids=[demo.uuid for demo in demos],
+        spaces=spaces,
+    )

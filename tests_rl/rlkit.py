@@ -1,0 +1,4 @@
+"""What the offline-RL tests train on."""
+
+TASK = "ReachTargetSingle"
+DEMOS = 3
