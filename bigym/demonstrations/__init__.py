@@ -49,6 +49,13 @@ def export_robomimic(*args, **kwargs):
     return _export(*args, **kwargs)
 
 
+def export_minari(*args, **kwargs):
+    """See :func:`bigym.demonstrations.export.export_minari` (imports minari on use)."""
+    from bigym.demonstrations.export import export_minari as _export
+
+    return _export(*args, **kwargs)
+
+
 __all__ = [
     "DATASET_VERSION",
     "Demo",
@@ -73,6 +80,7 @@ __all__ = [
     "convert_demo",
     "default_tolerance",
     "export_lerobot",
+    "export_minari",
     "export_robomimic",
     "make_env",
     "model_fingerprint",

@@ -6,18 +6,21 @@
   ``meta/stats.json``, ``meta/tasks.parquet``, ``meta/episodes/chunk-XXX/file-YYY.parquet``.
 * :func:`export_robomimic`: one robomimic-style HDF5 file,
   ``data/demo_<k>/{actions, obs/<key>, next_obs/<key>, rewards, dones, states}``.
+* :func:`export_minari`: a Minari dataset (Dict observations kept as they are).
 
 A frame ``t`` pairs the observation before action ``t`` with that action, so an episode
 of ``T`` actions gives ``T`` frames (the final observation is in ``next_obs`` only).
-pyarrow, h5py and imageio-ffmpeg are imported here only.
+pyarrow, h5py, imageio-ffmpeg and minari are imported here only.
 """
 
 from __future__ import annotations
 
 import json
 import shutil
+import warnings
 from collections.abc import Sequence
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -41,6 +44,17 @@ QUANTILES = (0.01, 0.10, 0.50, 0.90, 0.99)
 #: Its files therefore hold depth normalised over this range, in metres, written into the
 #: file: ``metres = near + value * (far - near)``; depth beyond ``far`` is stored as 1.
 ROBOMIMIC_DEPTH_RANGE = (0.0, 5.0)
+#: the demo metadata a Minari dataset's description carries (how to rebuild the env)
+MINARI_METADATA = (
+    "task",
+    "task_kwargs",
+    "action_mode",
+    "frequency",
+    "bigym_version",
+    "mujoco_version",
+    "model_fingerprint",
+    "action_names",
+)
 
 
 def _check_demos(demos: Sequence[ReplayedDemo]) -> None:
@@ -514,3 +528,66 @@ def env_from_robomimic(source: Path | str | dict, observation_config=None, rende
     )
     config = observation_config if observation_config is not None else kwargs.get("observation_config")
     return make_env(metadata, config, render_mode=render_mode)
+
+
+def export_minari(
+    demos: Sequence[ReplayedDemo],
+    dataset_id: str,
+    env,
+    *,
+    data_format: str = "hdf5",
+    author: str | None = None,
+) -> Any:
+    """Write ``demos`` as a Minari dataset (``namespace/name-vN``); return the ``MinariDataset``.
+
+    Minari keeps Dict observations as they are, so the episodes hold the demos' own
+    observations (all ``T + 1``), actions, rewards, terminations and truncations, and the
+    seed of each. ``env`` (the env the demos were replayed in) gives the spaces; the dataset
+    is written without an env spec (bigym's envs take settings a gymnasium id cannot carry):
+    the demos' metadata (task, action mode, observation config, rate) goes into its
+    description as JSON. Minari writes to its own dataset folder (``MINARI_DATASETS_PATH``).
+    """
+    try:
+        import minari
+        from minari.data_collector import EpisodeBuffer
+    except ImportError as error:
+        raise ImportError(f"export_minari needs minari: pip install minari ({error})") from error
+    _check_demos(demos)
+    space = env.observation_space
+    keys = list(demos[0].observations)
+    missing = [key for key in keys if key not in space.spaces]
+    if missing:
+        raise DemoError(f"the demos hold observations the env lacks: {', '.join(missing)}")
+    buffers = []
+    for index, demo in enumerate(demos):
+        steps = len(demo)
+        buffers.append(
+            EpisodeBuffer(
+                id=index,
+                seed=demo.metadata.seed,
+                observations={key: np.asarray(demo.observations[key][: steps + 1]) for key in keys},
+                actions=np.asarray(demo.actions, np.float32),
+                rewards=[float(r) for r in demo.rewards],
+                terminations=[bool(t) for t in demo.terminated],
+                truncations=[bool(t) for t in demo.truncated],
+                # infos hold one entry per observation: the reset's first
+                infos={"is_success": np.concatenate([[False], np.asarray(demo.success, bool)])},
+            )
+        )
+    metadata = demos[0].metadata.to_dict()
+    about = {key: metadata.get(key) for key in MINARI_METADATA}
+    about["observations"] = keys
+    description = json.dumps(about, sort_keys=True)
+    with warnings.catch_warnings():
+        # minari asks for an author, a code link, an eval env and an env spec; the description says why none
+        warnings.filterwarnings("ignore", category=UserWarning, module=r"minari\.")
+        return minari.create_dataset_from_buffers(
+            dataset_id,
+            buffers,
+            action_space=env.action_space,
+            observation_space=type(space)({key: space.spaces[key] for key in keys}),
+            algorithm_name="bigym demonstrations",
+            author=author,
+            description=description,
+            data_format=data_format,
+        )

@@ -10,8 +10,8 @@ import numpy as np
 import pyarrow.parquet as pq
 import pytest
 
-from bigym.demonstrations import DemoError, replay_many
-from bigym.demonstrations.export import export_lerobot, export_robomimic
+from bigym.demonstrations import DemoError, make_env, replay_many
+from bigym.demonstrations.export import export_lerobot, export_minari, export_robomimic
 from bigym.observations import CameraConfig, ObservationConfig
 
 CONFIG = ObservationConfig(
@@ -201,3 +201,44 @@ def test_env_from_robomimic_reproduces_the_exported_episodes(replayed, tmp_path)
 
     with pytest.raises(DemoError, match="not written by bigym"):
         env_from_robomimic({"env_name": "Lift", "type": 1, "env_kwargs": {}})
+
+
+@pytest.fixture(scope="module")
+def state_replays(expert_demos):
+    demo = expert_demos["single_absolute"]
+    config = ObservationConfig(privileged_information=True)
+    env = make_env(demo.metadata, config, 50)
+    yield env, replay_many([demo], config, 50, progress=False)
+    env.close()
+
+
+def test_minari_dataset_holds_the_replayed_episodes(state_replays, tmp_path, monkeypatch):
+    import minari
+
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path / "minari"))
+    env, replayed = state_replays
+    dataset = export_minari(replayed, "bigym/reach_target_single/expert-v0", env)
+    loaded = minari.load_dataset("bigym/reach_target_single/expert-v0")
+    assert loaded.total_episodes == len(replayed) == dataset.total_episodes
+    episode, demo = next(loaded.iterate_episodes()), replayed[0]
+    assert set(episode.observations) == set(demo.observations)
+    for key, values in demo.observations.items():
+        np.testing.assert_array_equal(episode.observations[key], values)
+    np.testing.assert_array_equal(episode.actions, demo.actions.astype(np.float32))
+    np.testing.assert_array_equal(episode.rewards, demo.rewards)
+    assert episode.terminations.tolist() == demo.terminated.tolist() and episode.terminations[-1]
+    assert episode.truncations.tolist() == demo.truncated.tolist()
+    about = json.loads(loaded.storage.metadata["description"])
+    assert about["task"] == "ReachTargetSingle" and about["frequency"] == 50
+    assert about["observations"] == list(demo.observations)
+
+
+def test_minari_export_refuses_observations_the_env_lacks(state_replays, tmp_path, monkeypatch):
+    monkeypatch.setenv("MINARI_DATASETS_PATH", str(tmp_path / "minari"))
+    _, replayed = state_replays
+    plain = make_env(replayed[0].metadata, ObservationConfig(), 50)
+    try:
+        with pytest.raises(DemoError, match="the env lacks"):
+            export_minari(replayed, "bigym/reach_target_single/expert-v0", plain)
+    finally:
+        plain.close()
