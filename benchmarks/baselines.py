@@ -39,7 +39,10 @@ TASKS = (
 STEPS = {"bc": 20_000, "act": 10_000, "dp": 10_000}
 
 
-def run(method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int):
+def run(
+    method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int,
+    device: str,
+):  # fmt: skip
     name = f"{method}{'-pixels' if cameras else ''}-{task}"
     record = out / f"{name}.json"
     if record.exists():
@@ -48,7 +51,7 @@ def run(method: str, task: str, store, work: Path, out: Path, steps: int, camera
     started = time.perf_counter()
     checkpoint = train(
         method, task, checkpoint_path, demos=50, cameras=cameras, privileged=not cameras, store=store,
-        settings={"steps": steps}, checkpoint_every=1000, workers=workers,
+        settings={"steps": steps}, checkpoint_every=1000, workers=workers, device=device,
     )  # fmt: skip
     config = ObservationConfig.from_dict(checkpoint.observation_config)
     result = evaluate(checkpoint_factory(checkpoint_path), task, workers=workers, observation_config=config)
@@ -62,12 +65,24 @@ def run(method: str, task: str, store, work: Path, out: Path, steps: int, camera
             "final_loss": checkpoint.losses[-1][1],
             "config": checkpoint.config,
         },
-        "machine": f"{platform.machine()}, {os.cpu_count()} CPUs",
+        "machine": machine(device),
         "evaluation": result.to_dict(),
     }
     record.parent.mkdir(parents=True, exist_ok=True)
     record.write_text(json.dumps(data, indent=1) + "\n")
     print(f"{name}: {result.summary.line()} ({(time.perf_counter() - started) / 60:.1f} min)", flush=True)
+
+
+def machine(device: str) -> str:
+    """Where a result was trained: the CPU count, and the GPU when training ran on one."""
+    import torch
+
+    from bigym.baselines.train import resolve_device
+
+    where = f"{platform.machine()}, {os.cpu_count()} CPUs"
+    if resolve_device(device).type == "cuda":
+        where += f", {torch.cuda.get_device_name(0)}"
+    return where
 
 
 def table(out: Path) -> str:
@@ -101,6 +116,7 @@ def main() -> None:
     parser.add_argument("--work", type=Path, default=None, help="checkpoints (default: $BIGYM_HOME/baselines)")
     parser.add_argument("--out", type=Path, default=Path("results/baselines"))
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
+    parser.add_argument("--device", default="auto", help="training device: auto (CUDA when there is a GPU), cpu, cuda")
     parser.add_argument("--table-only", action="store_true", help="print the table of the existing records")
     args = parser.parse_args()
     if not args.table_only:
@@ -112,10 +128,10 @@ def main() -> None:
             tasks = sorted({entry.task for entry in store.entries()})
         for task in tasks:
             for method in args.method or ["bc", "act", "dp"]:
-                run(method, task, store, work, args.out, args.steps or STEPS[method], (), args.workers)
+                run(method, task, store, work, args.out, args.steps or STEPS[method], (), args.workers, args.device)
         for task in args.pixels:
             cameras = ("head", "left_wrist", "right_wrist")
-            run("act", task, store, work, args.out, args.steps or STEPS["act"], cameras, args.workers)
+            run("act", task, store, work, args.out, args.steps or STEPS["act"], cameras, args.workers, args.device)
     print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
     print(table(args.out))
 

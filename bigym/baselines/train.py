@@ -71,12 +71,17 @@ def train(
     workers: int = 1,
     progress: Callable[[int, int, float], None] | None = None,
     replay_progress: bool = False,
+    device: str = "auto",
 ) -> Checkpoint:
     """Train ``method`` (bc, act, dp) on ``demos`` demos of ``task`` and write ``out``.
 
     ``settings`` override the method's config (e.g. ``{"steps": 5000}``). ``progress`` is
-    called as ``progress(step, steps, loss)`` after every step. Returns the last checkpoint.
+    called as ``progress(step, steps, loss)`` after every step. ``device``: ``"auto"`` (CUDA
+    when available, else the CPU), ``"cpu"``, ``"cuda"``, ... Random draws come from a seeded
+    CPU generator on every device; a resumed run ends with the weights of an uninterrupted
+    one on the CPU (CUDA kernels need not be bit-reproducible). Returns the last checkpoint.
     """
+    device = resolve_device(device)
     from bigym.demonstrations.player import resolve_task
 
     task = resolve_task(task).__name__
@@ -114,7 +119,7 @@ def train(
     generator = torch.Generator().manual_seed(seed)
     model = make_model(
         method, config, dataset.state_dim, dataset.action_dim, {k: tuple(v) for k, v in image_shapes.items()}
-    )
+    ).to(device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
     if previous is not None:
         _check_resumable(previous, checkpoint, out)
@@ -130,7 +135,8 @@ def train(
     model.train()
     started, recent = time.perf_counter(), []
     for step in range(checkpoint.step, config.steps):
-        loss, _ = model.loss(dataset.batch(config.batch_size, generator), generator)
+        batch = {k: v.to(device) for k, v in dataset.batch(config.batch_size, generator).items()}
+        loss, _ = model.loss(batch, generator)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
@@ -148,6 +154,19 @@ def train(
     if previous is not None and previous.step >= config.steps:
         return previous
     return Checkpoint.load(out)
+
+
+def resolve_device(name: str) -> torch.device:
+    """``"auto"``: CUDA when torch sees a GPU, else the CPU; any other name as torch reads it."""
+    if name == "auto":
+        return torch.device("cuda" if torch.cuda.is_available() else "cpu")
+    try:
+        device = torch.device(name)
+    except RuntimeError as error:
+        raise ValueError(f"unknown device {name!r}: give auto, cpu or cuda ({error})") from error
+    if device.type == "cuda" and not torch.cuda.is_available():
+        raise ValueError(f"device {name!r}: torch sees no CUDA GPU here (use 'cpu' or 'auto')")
+    return device
 
 
 def _write(checkpoint, model, optimizer, generator, step, started, out) -> None:

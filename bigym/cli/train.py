@@ -42,6 +42,7 @@ def train_command(
     seed: Annotated[int, typer.Option(help="Seed of the weights, batches and noise.")] = 0,
     workers: Annotated[int, typer.Option(min=1, help="Processes replaying the demos.")] = 1,
     checkpoint_every: Annotated[int, typer.Option(min=1, help="Steps between checkpoints.")] = 1000,
+    device: Annotated[str, typer.Option(help="auto (a CUDA GPU if there is one, else CPU), cpu, cuda.")] = "auto",
     setting: Annotated[list[str] | None, typer.Option("--set", help="Method setting name=value (repeatable).")] = None,
 ) -> None:
     """Train a baseline; run again with the same arguments to resume an interrupted run."""
@@ -75,7 +76,7 @@ def train_command(
             checkpoint = train(
                 method, cls.__name__, out, demos=demos, cameras=tuple(names), depth=depth, privileged=privileged,
                 store=store, seed=seed, settings=settings, checkpoint_every=checkpoint_every, workers=workers,
-                progress=advance, replay_progress=True,
+                progress=advance, replay_progress=True, device=device,
             )  # fmt: skip
     except (ValueError, FileNotFoundError) as error:
         _fail(str(error))

@@ -12,6 +12,7 @@ from typer.testing import CliRunner
 
 from bigym.action_modes import JointPositionActionMode
 from bigym.baselines import Checkpoint, ChunkPolicy, checkpoint_factory, load_policy, temporal_ensemble, train
+from bigym.baselines.train import resolve_device
 from bigym.cli import app
 from bigym.envs.reach_target import ReachTargetDual, ReachTargetMultiModal
 from bigym.evaluation import evaluate
@@ -134,9 +135,23 @@ def test_bigym_train_command(demo_store, tmp_path):
         (["train", "gpt", "reach_target_multi_modal"], "unknown method"),
         (["train", "bc", "reach_target_multi_modal", "--set", "oops"], "name=value"),
         (["train", "bc", "reach_target_multi_modal", "--cameras", "tail"], "unknown camera(s) tail"),
+        (
+            ["train", "bc", "reach_target_multi_modal", "--store", str(demo_store.url), "--device", "gpu7"],
+            "unknown device 'gpu7'",
+        ),
     ]:
         result = CliRunner().invoke(app, bad)
         assert result.exit_code == 1 and message in result.output, result.output
+
+
+def test_training_devices():
+    assert resolve_device("cpu") == torch.device("cpu")
+    assert resolve_device("auto").type == ("cuda" if torch.cuda.is_available() else "cpu")
+    with pytest.raises(ValueError, match="unknown device"):
+        resolve_device("abacus")
+    if not torch.cuda.is_available():
+        with pytest.raises(ValueError, match="no CUDA GPU"):
+            resolve_device("cuda")
 
 
 def test_training_and_acting_from_a_camera(demo_store, tmp_path):

@@ -53,7 +53,7 @@ class ACTModel(nn.Module):
         return self.head(self.decoder(queries, memory))
 
     def predict(self, batch: dict[str, torch.Tensor], generator: torch.Generator | None = None) -> torch.Tensor:
-        z = torch.zeros(len(batch["state"]), self.config.latent)
+        z = torch.zeros(len(batch["state"]), self.config.latent, device=batch["state"].device)
         return self._decode(batch, z)
 
     def loss(self, batch: dict[str, torch.Tensor], generator: torch.Generator) -> tuple[torch.Tensor, dict]:
@@ -67,10 +67,10 @@ class ACTModel(nn.Module):
             dim=1,
         )
         # padded steps of the chunk are hidden from the posterior
-        mask = torch.cat([torch.zeros(n, 2, dtype=torch.bool), batch["pad"]], dim=1)
+        mask = torch.cat([torch.zeros(n, 2, dtype=torch.bool, device=batch["pad"].device), batch["pad"]], dim=1)
         summary = self.posterior(tokens + self.posterior_position, src_key_padding_mask=mask)[:, 0]
         mean, log_var = self.to_latent(summary).chunk(2, dim=1)
-        noise = torch.randn(mean.shape, generator=generator)
+        noise = torch.randn(mean.shape, generator=generator).to(mean.device)  # CPU generator: seeded
         z = mean + (0.5 * log_var).exp() * noise
         l1 = masked_l1(self._decode(batch, z), batch["actions"], batch["pad"])
         kl = 0.5 * (mean.pow(2) + log_var.exp() - 1.0 - log_var).sum(dim=1).mean()

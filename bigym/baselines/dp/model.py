@@ -23,7 +23,7 @@ def cosine_alphas_cumprod(steps: int) -> torch.Tensor:
 
 def step_embedding(step: torch.Tensor, dim: int) -> torch.Tensor:
     half = dim // 2
-    frequencies = torch.exp(-math.log(10_000) * torch.arange(half, dtype=torch.float32) / half)
+    frequencies = torch.exp(-math.log(10_000) * torch.arange(half, dtype=torch.float32, device=step.device) / half)
     angles = step.float()[:, None] * frequencies[None]
     return torch.cat([angles.sin(), angles.cos()], dim=1)
 
@@ -92,8 +92,9 @@ class DPModel(nn.Module):
     def loss(self, batch: dict[str, torch.Tensor], generator: torch.Generator) -> tuple[torch.Tensor, dict]:
         actions = batch["actions"]
         n = len(actions)
-        steps = torch.randint(self.config.train_timesteps, (n,), generator=generator)
-        noise = torch.randn(actions.shape, generator=generator)
+        # drawn on the CPU generator (seeded, resumable), then moved to the model's device
+        steps = torch.randint(self.config.train_timesteps, (n,), generator=generator).to(actions.device)
+        noise = torch.randn(actions.shape, generator=generator).to(actions.device)
         alpha = self.alphas_cumprod[steps][:, None, None]
         noisy = alpha.sqrt() * actions + (1 - alpha).sqrt() * noise
         error = (self._noise(noisy, steps, self._condition(batch)) - noise) ** 2
@@ -106,13 +107,14 @@ class DPModel(nn.Module):
         """DDIM (deterministic given the starting noise) from pure noise to a chunk."""
         observation = self._condition(batch)
         n = len(observation)
-        x = torch.randn((n, self.config.chunk, self.action_dim), generator=generator)
+        device = observation.device
+        x = torch.randn((n, self.config.chunk, self.action_dim), generator=generator).to(device)
         total, count = self.config.train_timesteps, self.config.inference_steps
         schedule = torch.linspace(total - 1, 0, count).round().long()
         for i, t in enumerate(schedule):
             alpha = self.alphas_cumprod[t]
-            alpha_next = self.alphas_cumprod[schedule[i + 1]] if i + 1 < count else torch.tensor(1.0)
-            noise = self._noise(x, t.repeat(n), observation)
+            alpha_next = self.alphas_cumprod[schedule[i + 1]] if i + 1 < count else torch.tensor(1.0, device=device)
+            noise = self._noise(x, t.repeat(n).to(device), observation)
             clean = ((x - (1 - alpha).sqrt() * noise) / alpha.sqrt()).clamp(-1.0, 1.0)
             x = alpha_next.sqrt() * clean + (1 - alpha_next).sqrt() * noise
         return x
