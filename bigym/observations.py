@@ -26,6 +26,13 @@ from bigym.robot.h1 import CAMERAS
 from bigym.robot.robot import GRIPPER_DRIVER_MAX, Robot
 
 CAMERA_NAMES = (*CAMERAS, "external")
+#: observation keys of camera images start with these (``rgb_head``, ``depth_left_wrist``)
+IMAGE_PREFIXES = ("rgb_", "depth_")
+
+
+def is_image_key(key: str) -> bool:
+    """Whether an observation key holds a camera image (RGB or depth) rather than a vector."""
+    return key.startswith(IMAGE_PREFIXES)
 
 
 @dataclass(frozen=True)

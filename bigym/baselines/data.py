@@ -19,13 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
-IMAGE_PREFIXES = ("rgb_", "depth_")
+from bigym.observations import is_image_key
+
 BASE_TARGETS = "proprioception_floating_base_actions"
 DEPTH_RANGE = 5.0  # metres mapped to [0, 1] for the image encoders
-
-
-def is_image(key: str) -> bool:
-    return key.startswith(IMAGE_PREFIXES)
 
 
 @dataclass
@@ -86,7 +83,7 @@ def target_actions(demo, base: list[int]) -> np.ndarray:
 
 def state_keys(observations: dict) -> list[str]:
     """The non-image observation keys, in a fixed order."""
-    return sorted(k for k in observations if not is_image(k))
+    return sorted(k for k in observations if not is_image_key(k))
 
 
 def state_vector(obs: dict, keys: list[str]) -> np.ndarray:

@@ -20,7 +20,7 @@ from bigym.action_modes import JointPositionActionMode
 from bigym.baselines.checkpoint import Checkpoint
 from bigym.baselines.data import ChunkDataset
 from bigym.baselines.methods import make_config, make_model
-from bigym.observations import CameraConfig, ObservationConfig
+from bigym.observations import CameraConfig, ObservationConfig, is_image_key
 
 LOSS_EVERY = 50  # steps between the losses a checkpoint keeps
 
@@ -88,7 +88,7 @@ def train(
     config = make_config(method, settings)
     observations = observation_config(tuple(cameras), depth, privileged)
     replayed, metadata = load_demos(task, observations, demos, frequency, store, workers, replay_progress)
-    image_keys = sorted(k for k in replayed[0].observations if k.startswith(("rgb_", "depth_")))
+    image_keys = sorted(k for k in replayed[0].observations if is_image_key(k))
     out = Path(out)
     previous = Checkpoint.load(out) if out.exists() else None
     dataset = ChunkDataset(

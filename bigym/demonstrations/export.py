@@ -28,6 +28,7 @@ import bigym
 from bigym.demonstrations.atomic import atomic_write, partial_path
 from bigym.demonstrations.demo import ReplayedDemo
 from bigym.demonstrations.errors import DemoError
+from bigym.observations import is_image_key
 
 LEROBOT_VERSION = "v3.0"
 CHUNKS_SIZE = 1000
@@ -198,7 +199,7 @@ def export_lerobot(
     try:
         # ----- features
         state_names = _proprioception_names(first)
-        vector_keys = [k for k in first.observations if not k.startswith(("rgb_", "depth_"))]
+        vector_keys = [k for k in first.observations if not is_image_key(k)]
         video_keys = [k for k in first.observations if k.startswith("rgb_")]
         features: dict[str, dict] = {}
         for key in vector_keys:
@@ -544,7 +545,7 @@ def export_minari(
     observations (all ``T + 1``), actions, rewards, terminations and truncations, and the
     seed of each. ``env`` (the env the demos were replayed in) gives the spaces; the dataset
     is written without an env spec (bigym's envs take settings a gymnasium id cannot carry):
-    the demos' metadata (task, action mode, observation config, rate) goes into its
+    the demos' task, action mode, rate, versions and observation keys go into its
     description as JSON. Minari writes to its own dataset folder (``MINARI_DATASETS_PATH``).
     """
     try:

@@ -22,8 +22,7 @@ import numpy as np
 
 from bigym.demonstrations.demo import ReplayedDemo
 from bigym.demonstrations.errors import DemoError
-
-IMAGE_PREFIXES = ("rgb_", "depth_")
+from bigym.observations import is_image_key
 
 
 @dataclass(frozen=True)
@@ -39,7 +38,7 @@ class FlatSpaces:
     def from_env(cls, env) -> FlatSpaces:
         """The maps for ``env``'s spaces; camera observations are refused (flat state only)."""
         space = env.observation_space
-        images = [key for key in space.spaces if key.startswith(IMAGE_PREFIXES)]
+        images = [key for key in space.spaces if is_image_key(key)]
         if images:
             raise DemoError(
                 f"flat transitions hold state observations only; this env also observes {', '.join(images)} "
