@@ -67,7 +67,7 @@ def test_readme_setup_commands_match_ci():
     ci = (REPO / ".ci" / "run").read_text()
     command = (
         "python3 -m venv .venv && . .venv/bin/activate && pip install torch==2.13.0 && "
-        'pip install -e ".[dev,train]" && python -m pytest -q'
+        'pip install -e ".[dev,train,ray]" && python -m pytest -q'
     )
     assert command in readme and command in ci
 

@@ -5,6 +5,7 @@
 * tasks know no expert;
 * the evaluation protocol knows no policy, expert or baseline (it loads them by name);
 * the baselines know no expert and no evaluation (they learn from demos, and are evaluated by name);
+* the Ray backend (scale_out.py) knows no layer above it;
 * nothing but the command line imports the command line.
 """
 
@@ -52,6 +53,10 @@ RULES = [
     (["experts", "policies.py"], ("bigym.evaluation", "bigym.cli")),
     (["evaluation"], ("bigym.experts", "bigym.policies", "bigym.baselines", "bigym.cli")),
     (["baselines"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli")),
+    (
+        ["scale_out.py"],  # the Ray backend serves every layer, and so knows none of them
+        ("bigym.envs", "bigym.demonstrations", "bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli"),
+    ),
 ]
 
 
@@ -75,7 +80,9 @@ def _imports(path: Path) -> list[str]:
 
 
 @pytest.mark.parametrize(
-    "parts, forbidden", RULES, ids=["env_core", "demonstrations", "tasks", "producers", "evaluation", "baselines"]
+    "parts, forbidden",
+    RULES,
+    ids=["env_core", "demonstrations", "tasks", "producers", "evaluation", "baselines", "scale_out"],
 )
 def test_layers_point_down(parts, forbidden):
     files = _files(parts)

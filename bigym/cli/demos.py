@@ -26,6 +26,9 @@ StoreOption = Annotated[
     str | None, typer.Option("--store", help="Store URL or folder (default: $BIGYM_DEMO_STORE or the local store).")
 ]
 VersionOption = Annotated[str, typer.Option("--version", help="Dataset version in the store ('latest' allowed).")]
+RayAddressOption = Annotated[
+    str | None, typer.Option(help="With --backend ray: a Ray cluster's address (default: $RAY_ADDRESS, else local).")
+]
 TaskOption = Annotated[str | None, typer.Option("--task", help="Only demos of this task.")]
 FrequencyOption = Annotated[float | None, typer.Option("--frequency", "-f", help="Control rate in Hz (20-500).")]
 DemosArgument = Annotated[list[str] | None, typer.Argument(help="Demo files or uuids (default: every demo of --task).")]
@@ -57,6 +60,18 @@ def _handle_errors(command):
             _fail(f"{type(error).__name__}: {error}")
 
     return wrapper
+
+
+def _start_backend(backend: str, address: str | None, workers: int | None) -> None:
+    """Check the backend's name; for Ray, connect to ``address`` (or start a local instance) now."""
+    from bigym.scale_out import ensure_ray
+
+    if backend not in ("process", "ray", "serial"):
+        _fail(f"--backend must be 'process' or 'ray', got {backend!r}")
+    if address and backend != "ray":
+        _fail("--ray-address needs --backend ray")
+    if backend == "ray":
+        ensure_ray(address, num_cpus=workers)
 
 
 def _store(url: str | None, version: str):
@@ -96,19 +111,26 @@ def _load_demos(store, demos: list[str] | None, task: str | None):
         return loaded
     if task is None:
         _fail("name demos (files or uuids) or pass --task")
+    return [store.load(entry) for entry in _task_entries(store, task)]
+
+
+def _task_entries(store, task: str) -> list:
+    """Every demo of ``task`` in the store; a task it lacks is first completed from the
+    shipped dataset when one covers it (demos on demand)."""
     entries = store.entries(task=task)
+    if not entries and store.on_demand:
+        store.provide(task)
+        entries = store.entries(task=task)
     if not entries:
         _fail(f"no demos of {task} in {store.url} (version {store.version})")
-    return [store.load(entry) for entry in entries]
+    return entries
 
 
 def _mode_of(store, task: str, mode: str | None) -> dict:
     """The action mode to use for ``task``: the one the store has, or the one named by ``mode``."""
     from bigym.demonstrations.metadata import describe_action_mode, normalise_action_mode
 
-    modes = {json.dumps(normalise_action_mode(e.action_mode), sort_keys=True) for e in store.entries(task=task)}
-    if not modes:
-        _fail(f"no demos of {task} in {store.url} (version {store.version})")
+    modes = {json.dumps(normalise_action_mode(e.action_mode), sort_keys=True) for e in _task_entries(store, task)}
     candidates = [json.loads(m) for m in sorted(modes)]
     if mode is not None:
         if mode not in ("absolute", "delta"):
@@ -210,11 +232,32 @@ def info(
 def download(
     task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
     refresh: Annotated[bool, typer.Option(help="Fetch the manifest again.")] = False,
+    shipped: Annotated[
+        bool, typer.Option("--shipped", help="Local store: complete every task of the shipped dataset.")
+    ] = False,
     store: StoreOption = None,
     version: VersionOption = DATASET_VERSION,
 ) -> None:
-    """Download (and verify the sha256 of) the demos of a store into the local cache."""
+    """Download (and verify the sha256 of) the demos of a store into the local cache.
+
+    For a local store, the tasks named with --task (every task with --shipped) are first
+    completed with their slice of the shipped dataset: downloaded from a hosted copy
+    ($BIGYM_DATASET_MIRROR) or built on this machine.
+    """
     demo_store = _store(store, version)
+    if demo_store.is_local and (task or shipped):
+        from bigym.demonstrations.provision import shipped_tasks
+
+        names = task or shipped_tasks(demo_store.version)
+        if not names:
+            _fail(f"this bigym ships no dataset {demo_store.version} to complete {demo_store.url} from")
+        for name in names:
+            report = demo_store.provide(name)
+            if report is None:
+                _fail(f"the shipped dataset {demo_store.version} has no demos of {name}")
+            console.print(report.summary())
+    elif shipped:
+        _fail(f"--shipped completes a local store; {demo_store.url} is remote (its files download as they are)")
     demo_store.manifest(refresh=refresh)
     entries = [e for name in task for e in demo_store.entries(task=name)] if task else demo_store.entries()
     if not entries:
@@ -232,6 +275,7 @@ def verify(
     frequency: FrequencyOption = None,
     workers: Annotated[int, typer.Option(min=1, help="Parallel replay processes.")] = 1,
     backend: Annotated[str, typer.Option(help="process | ray | serial")] = "process",
+    ray_address: RayAddressOption = None,
     tolerance: Annotated[float | None, typer.Option(help="Joint tolerance for replays at another rate.")] = None,
     store: StoreOption = None,
     version: VersionOption = DATASET_VERSION,
@@ -242,6 +286,7 @@ def verify(
     from bigym.demonstrations.player import replay_many
 
     loaded = _load_demos(_store(store, version), demos, task)
+    _start_backend(backend, ray_address, workers)
     results = replay_many(loaded, None, frequency, workers=workers, backend=backend, tolerance=tolerance,
                           errors="return", description="verifying demos")  # fmt: skip
     table = Table("uuid", "task", "rate", "steps", "checkpoints", "max divergence", "success", "result")
@@ -354,6 +399,8 @@ def export(
     depth: Annotated[bool, typer.Option(help="Also render depth (robomimic only).")] = False,
     amount: Annotated[int, typer.Option(help="Number of demos (-1: all).")] = -1,
     workers: Annotated[int, typer.Option(min=1, help="Parallel replay processes.")] = 1,
+    backend: Annotated[str, typer.Option(help="process | ray")] = "process",
+    ray_address: RayAddressOption = None,
     overwrite: Annotated[bool, typer.Option(help="Replace an existing output.")] = False,
     store: StoreOption = None,
     version: VersionOption = DATASET_VERSION,
@@ -375,7 +422,9 @@ def export(
     action_mode = _mode_of(demo_store, name, mode)
     config = _observation_config(cameras, resolution, depth, False)
     query = Metadata(task=name, action_mode=action_mode, frequency=frequency, observation_config=config.to_dict())
-    replayed = demo_store.get_demos(query, amount, frequency, convert=True, workers=workers, progress=True)
+    _start_backend(backend, ray_address, workers)
+    replayed = demo_store.get_demos(query, amount, frequency, convert=True, workers=workers, backend=backend,
+                                    progress=True)  # fmt: skip
     if format == "lerobot":
         path = export_lerobot(replayed, output, overwrite=overwrite, progress=True)
     else:
@@ -562,6 +611,8 @@ def dataset_build(
     out: Annotated[Path, typer.Argument(help="Store folder to write the dataset version into.")],
     task: Annotated[list[str] | None, typer.Option("--task", help="Only these tasks (repeatable).")] = None,
     workers: Annotated[int | None, typer.Option(min=1, help="Processes (default: CPU count, at most 8).")] = None,
+    backend: Annotated[str, typer.Option(help="process | ray")] = "process",
+    ray_address: RayAddressOption = None,
     resume: Annotated[bool, typer.Option(help="Skip tasks whose files OUT already holds complete.")] = True,
     update_manifest: Annotated[
         bool, typer.Option(help="Maintainers: merge the result into the shipped manifest.")
@@ -583,7 +634,8 @@ def dataset_build(
         else:
             console.print(report.summary(), highlight=False)
 
-    build_dataset(out, tasks, workers=workers, on_task=done, resume=resume)
+    _start_backend(backend, ray_address, workers)
+    build_dataset(out, tasks, workers=workers, on_task=done, resume=resume, backend=backend)
     console.print(f"dataset {DATASET_VERSION} written to {out}: serve it with DemoStore({str(out)!r})")
     if update_manifest:
         from bigym.experts.dataset import write_shipped_manifest

@@ -63,6 +63,12 @@ def eval_command(
     ] = None,
     vector: Annotated[str | None, typer.Option(help="Run a gymnasium vector env per worker: sync | async.")] = None,
     envs_per_worker: Annotated[int, typer.Option(min=1, help="Sub-envs per vector env.")] = 2,
+    backend: Annotated[str, typer.Option(help="process (a local pool) | ray (Ray actors, local or a cluster).")] = (
+        "process"
+    ),
+    ray_address: Annotated[
+        str | None, typer.Option(help="With --backend ray: a Ray cluster's address (default: $RAY_ADDRESS, else local).")
+    ] = None,
     control_frequency: Annotated[
         float | None, typer.Option(help="Control rate in Hz (the protocol's: 50; a checkpoint's own).")
     ] = None,
@@ -86,6 +92,10 @@ def eval_command(
     from bigym.observations import CameraConfig, ObservationConfig
 
     cls = task_class(task)
+    if backend not in ("process", "ray"):
+        _fail(f"--backend must be 'process' or 'ray', got {backend!r}")
+    if ray_address and backend != "ray":
+        _fail("--ray-address needs --backend ray")
     try:
         spec = policy_spec(policy, cls.__name__)
     except ImportError as error:
@@ -118,6 +128,10 @@ def eval_command(
         control_frequency = control_frequency if control_frequency is not None else trained.frequency
     columns = progress_columns("{task.fields[successes]} successes")
     try:
+        if backend == "ray":
+            from bigym.scale_out import ensure_ray
+
+            ensure_ray(ray_address, num_cpus=workers)
         with Progress(*columns, console=console) as progress:
             bar = progress.add_task(f"{cls.__name__} ({policy})", total=episodes, successes=0)
             successes = 0
@@ -140,8 +154,9 @@ def eval_command(
                 video_dir=video,
                 videos=videos if video is not None else 0,
                 progress=advance,
+                backend=backend,
             )
-    except (EvaluationError, ValueError) as error:
+    except (EvaluationError, ValueError, RuntimeError) as error:
         _fail(str(error))
     console.print(summary_table(result))
     if not result.official:
@@ -168,7 +183,8 @@ def summary_table(result) -> Table:
         "outcomes": outcomes,
         "observations": result.fingerprint["track"],
         "official": "yes" if result.official else "no",
-        "wall time": f"{result.wall_time:.1f} s on {result.workers} worker(s)",
+        "wall time": f"{result.wall_time:.1f} s on {result.workers} worker(s)"
+        + (" (Ray)" if result.backend == "ray" else ""),
     }
     for name, value in rows.items():
         table.add_row(name, value)

@@ -20,12 +20,14 @@ from bigym.demonstrations.convert import convert_demo
 from bigym.demonstrations.demo import Demo, ReplayedDemo, ReplayReport
 from bigym.demonstrations.errors import (
     DemoActionModeError,
+    DemoBuildError,
     DemoChecksumError,
     DemoCorruptError,
     DemoDivergenceError,
     DemoError,
     DemoNotFoundError,
     DemoReplayError,
+    DemoStoreBusyError,
     DemoVersionWarning,
     TooManyDemosRequestedError,
 )
@@ -60,6 +62,7 @@ __all__ = [
     "DATASET_VERSION",
     "Demo",
     "DemoActionModeError",
+    "DemoBuildError",
     "DemoChecksumError",
     "DemoCorruptError",
     "DemoDivergenceError",
@@ -68,6 +71,7 @@ __all__ = [
     "DemoRecorder",
     "DemoReplayError",
     "DemoStore",
+    "DemoStoreBusyError",
     "DemoVersionWarning",
     "Manifest",
     "ManifestEntry",

@@ -47,6 +47,14 @@ class DemoCorruptError(DemoError):
     """A file is not a readable demo: truncated, not safetensors, or missing keys."""
 
 
+class DemoStoreBusyError(DemoError):
+    """Another writer holds a remote store's write lease: attribute ``holder`` (who, since when)."""
+
+
+class DemoBuildError(DemoError):
+    """A demo of a shipped dataset could not be rebuilt as its manifest says."""
+
+
 class DemoActionModeError(DemoError):
     """The demo was recorded with another action mode (or robot) than the one asked for."""
 

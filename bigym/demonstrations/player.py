@@ -614,30 +614,15 @@ def _run_pool(jobs, workers, finish, pool: ReplayPool | None = None) -> None:
 
 
 def _run_ray(jobs, workers, finish) -> None:
+    """The jobs as Ray tasks (:mod:`bigym.scale_out`): a local instance, or the cluster Ray is connected to."""
+    from bigym.scale_out import RayUnavailableError, run_tasks
+
     try:
-        import ray
-    except ImportError as error:
-        raise DemoError(
-            "backend='ray' needs Ray, an optional dependency: pip install 'bigym[ray]' (or pip install ray)"
-        ) from error
-    if not ray.is_initialized():
-        names = ("MUJOCO_GL", "MENAGERIE_ROOT", "BIGYM_HOME", "PYOPENGL_PLATFORM")
-        env_vars = {name: os.environ[name] for name in names if name in os.environ}
-        ray.init(num_cpus=workers, include_dashboard=False, runtime_env={"env_vars": env_vars})
-    remote = ray.remote(_replay_job)
-    refs = {remote.remote(job): index for index, job in enumerate(jobs)}
-    pending = list(refs)
-    while pending:
-        done, pending = ray.wait(pending, num_returns=1)
-        for ref in done:
-            try:
-                result = ray.get(ref)
-            except Exception as error:  # Ray wraps task errors; unwrap ours
-                cause = getattr(error, "cause", None)
-                if not isinstance(cause, DemoError):
-                    raise
-                result = cause
-            finish(refs[ref], result)
+        for finished in run_tasks(_replay_job, jobs, workers, catch=(DemoError,)):
+            for index, result in finished:
+                finish(index, result)
+    except RayUnavailableError as error:
+        raise DemoError(str(error)) from error
 
 
 class progress_bar:

@@ -16,6 +16,14 @@ Local cache (``$BIGYM_HOME``, default ``~/.cache/bigym``)::
 
 Every file is written atomically (temporary file in the same folder, then ``os.replace``)
 and every demo is checked against its manifest size and sha256 before use.
+
+Demos on demand: a local store asked for a task it has no demos of completes that task's
+slice of the shipped dataset (built here, or downloaded from a hosted copy), byte for
+byte as the shipped manifest lists it (:mod:`bigym.demonstrations.provision`); a damaged
+file of that slice is made again. ``on_demand=False`` (or ``BIGYM_ON_DEMAND=0``) turns
+that off. Writers: local stores lock their manifest (processes wait for each other);
+remote stores take a write lease and refuse a second writer with
+:class:`~bigym.demonstrations.errors.DemoStoreBusyError` (:mod:`bigym.demonstrations.locks`).
 """
 
 from __future__ import annotations
@@ -42,8 +50,10 @@ from bigym.demonstrations.errors import (
     DemoCorruptError,
     DemoError,
     DemoNotFoundError,
+    DemoStoreBusyError,
     TooManyDemosRequestedError,
 )
+from bigym.demonstrations.locks import file_lock, remote_lease
 from bigym.demonstrations.metadata import (
     FORMAT_VERSION,
     Metadata,
@@ -271,7 +281,15 @@ class DemoStore:
         version: str = DATASET_VERSION,
         cache_dir: str | os.PathLike | None = None,
         storage_options: dict | None = None,
+        *,
+        on_demand: bool | None = None,
+        mirror: str | None = None,
+        build_workers: int | None = None,
     ) -> None:
+        """``on_demand``: complete a missing task from the shipped dataset (default: on,
+        unless ``BIGYM_ON_DEMAND=0``); ``mirror``: a hosted copy of the shipped dataset to
+        download such slices from (default ``$BIGYM_DATASET_MIRROR``, else they are built
+        here with ``build_workers`` processes, default the CPU count up to 8)."""
         import fsspec
 
         self.url = str(url if url is not None else default_store_url()).rstrip("/")
@@ -285,6 +303,9 @@ class DemoStore:
         self._requested_version = version
         self._version: str | None = None
         self._manifest: Manifest | None = None
+        self.on_demand = on_demand if on_demand is not None else os.environ.get("BIGYM_ON_DEMAND", "1") != "0"
+        self.mirror = mirror
+        self.build_workers = build_workers
 
     def __repr__(self) -> str:
         return f"DemoStore({self.url!r}, version={self._requested_version!r})"
@@ -308,6 +329,13 @@ class DemoStore:
     @property
     def download_dir(self) -> Path:
         return self._cache_root / "downloads" / self.store_id / self.version
+
+    @property
+    def version_folder(self) -> Path:
+        """The version's folder of a local store."""
+        if not self.is_local:
+            raise DemoError(f"{self.url} is not a local store")
+        return Path(self._remote(self.version))
 
     def local_path(self, entry: ManifestEntry) -> Path:
         """Where the verified file lives on this machine (in the store, or the download cache)."""
@@ -395,11 +423,11 @@ class DemoStore:
         if self.is_local:
             if not path.is_file():
                 raise DemoNotFoundError(f"{path} is listed in the manifest but missing from the store")
-            _verify(path.read_bytes(), entry, str(path))
+            verify_bytes(path.read_bytes(), entry, str(path))
             return path
         if path.is_file():
             try:
-                _verify(path.read_bytes(), entry, str(path))
+                verify_bytes(path.read_bytes(), entry, str(path))
                 return path  # cache hit: no request
             except DemoChecksumError:
                 path.unlink()  # damaged in the cache: fetch it again
@@ -410,7 +438,8 @@ class DemoStore:
             raise DemoNotFoundError(f"{remote} is listed in the manifest but missing from the store") from error
         except Exception as error:
             raise DemoError(f"cannot download {remote}: {error}") from error
-        _verify(data, entry, remote)
+        verify_bytes(data, entry, remote)
+        self._check_against_shipped(entry, remote)
         with atomic_open(path) as handle:
             handle.write(data)
         return path
@@ -428,11 +457,61 @@ class DemoStore:
                 advance()
         return paths
 
+    def _check_against_shipped(self, entry: ManifestEntry, source: str) -> None:
+        """A hosted copy of a shipped dataset must serve the shipped bytes, whatever its own manifest says."""
+        from bigym.demonstrations.provision import shipped_entries
+
+        shipped = next((e for e in shipped_entries(self.version, entry.task) if e.path == entry.path), None)
+        if shipped is not None and (shipped.sha256, shipped.size) != (entry.sha256, entry.size):
+            raise DemoChecksumError(
+                f"{source} differs from the dataset {self.version} this bigym ships (sha256 {entry.sha256[:16]}... "
+                f"where the shipped manifest says {shipped.sha256[:16]}...); it was not used",
+                source=source, expected=shipped.sha256, actual=entry.sha256,
+            )  # fmt: skip
+
+    # ------------------------------------------------------------------ demos on demand
+    def provide(self, task: str, progress: bool = True, rebuild: Sequence[str] = ()):
+        """Complete ``task``'s slice of the shipped dataset in this (local) store.
+
+        Returns a :class:`~bigym.demonstrations.provision.ProvisionReport`, or None when no
+        shipped dataset covers the task or the store is remote.
+        """
+        from bigym.demonstrations.provision import provide_task
+
+        return provide_task(
+            self, canonical_task(task), mirror=self.mirror, workers=self.build_workers, progress=progress,
+            rebuild=rebuild,
+        )  # fmt: skip
+
+    def _can_provide(self, task: str, task_kwargs: dict | None = None) -> bool:
+        from bigym.demonstrations.provision import shipped_entries
+
+        return self.on_demand and self.is_local and bool(shipped_entries(self.version, task, task_kwargs))
+
+    def _is_shipped(self, entry: ManifestEntry) -> bool:
+        from bigym.demonstrations.provision import shipped_entries
+
+        shipped = shipped_entries(self.version, entry.task)
+        return any((e.path, e.sha256, e.size) == (entry.path, entry.sha256, entry.size) for e in shipped)
+
     def load(self, entry: ManifestEntry | str) -> Demo:
-        """The lightweight demo of a manifest entry (or uuid prefix), verified."""
+        """The lightweight demo of a manifest entry (or uuid prefix), verified.
+
+        A missing or damaged file of the shipped dataset is made again (demos on demand);
+        any other is reported.
+        """
         if isinstance(entry, str):
             entry = self.manifest().by_uuid(entry)
-        path = self.fetch(entry)
+        try:
+            path = self.fetch(entry)
+        except (DemoChecksumError, DemoCorruptError, DemoNotFoundError) as error:
+            if not (self.on_demand and self.is_local and self._is_shipped(entry)):
+                raise
+            from bigym.demonstrations.provision import notify
+
+            notify(f"{error}; making it again from the shipped dataset")
+            self.provide(entry.task, rebuild=[entry.path])
+            path = self.fetch(entry)
         demo = Demo.load(path)
         if demo.uuid != entry.uuid:
             raise DemoCorruptError(f"{path} holds demo {demo.uuid}, the manifest says {entry.uuid}")
@@ -508,7 +587,14 @@ class DemoStore:
         """The first ``amount`` usable entries (sorted by path, or shuffled with ``shuffle_seed``)."""
         if amount == 0:
             return [], False
-        entries, converting = self.find(metadata, include_failed, convert)
+        try:
+            entries, converting = self.find(metadata, include_failed, convert)
+        except DemoNotFoundError as error:
+            task = canonical_task(metadata.task)
+            if isinstance(error, TooManyDemosRequestedError) or not self._can_provide(task, metadata.task_kwargs):
+                raise
+            self.provide(task)  # demos on demand: the shipped dataset's slice of the task
+            entries, converting = self.find(metadata, include_failed, convert)
         if shuffle_seed is not None:
             random.Random(shuffle_seed).shuffle(entries)
         if amount is not None and amount > 0:
@@ -645,14 +731,20 @@ class DemoStore:
 
     @contextlib.contextmanager
     def _writing(self):
-        """Read-modify-write the manifest under a lock (local stores), then the index."""
+        """Read-modify-write the manifest under the store's lock (local) or lease (remote), then the index."""
         with self._lock():
             try:
                 manifest = self.manifest(refresh=True)
             except DemoNotFoundError:  # a new remote store: its first demo creates the manifest
                 manifest = Manifest(self.version)
             yield manifest
-            self._write(self._remote(self.version, MANIFEST_NAME), manifest.to_json().encode())
+            text = manifest.to_json().encode()
+            self._write(self._remote(self.version, MANIFEST_NAME), text)
+            if not self.is_local and self.fs.cat_file(self._remote(self.version, MANIFEST_NAME)) != text:
+                raise DemoStoreBusyError(
+                    f"another writer replaced the manifest of {self.url} while this one wrote it (a writer that "
+                    "ignores the write lease?); add the demos again"
+                )
             index = self._read_index()
             versions = sorted(set(index.get("versions", [])) | {self.version})
             payload = {"format": STORE_FORMAT, "versions": versions, "latest": max(versions, key=_version_key)}
@@ -661,22 +753,12 @@ class DemoStore:
 
     @contextlib.contextmanager
     def _lock(self):
-        if not self.is_local:
-            yield
-            return
-        folder = Path(self._remote(self.version))
-        folder.mkdir(parents=True, exist_ok=True)
-        try:
-            import fcntl
-        except ImportError:  # no advisory locks on this platform: single writer assumed
-            yield
-            return
-        with open(folder / ".lock", "a") as handle:
-            fcntl.flock(handle, fcntl.LOCK_EX)
-            try:
+        if self.is_local:
+            with file_lock(self.version_folder / ".lock"):
                 yield
-            finally:
-                fcntl.flock(handle, fcntl.LOCK_UN)
+        else:
+            with remote_lease(self.fs, self._remote(self.version, ".write-lease"), self.url):
+                yield
 
     def _write(self, remote: str, data: bytes) -> None:
         if self.is_local:
@@ -724,7 +806,7 @@ def _config_dict(config) -> dict:
     return ObservationConfig.from_dict(config).to_dict()
 
 
-def _verify(data: bytes, entry: ManifestEntry, source: str) -> None:
+def verify_bytes(data: bytes, entry: ManifestEntry, source: str) -> None:
     """Size and sha256 against the manifest; then that the bytes parse as safetensors."""
     if len(data) != entry.size:
         kind = "truncated" if len(data) < entry.size else "longer than expected"

@@ -100,6 +100,7 @@ class EvaluationResult:
     workers: int = 1
     vector: str | None = None
     wall_time: float = 0.0
+    backend: str = "process"  # or "ray": where the episodes ran (the records do not depend on it)
 
     @property
     def official(self) -> bool:
@@ -121,6 +122,7 @@ class EvaluationResult:
             "fingerprint": self.fingerprint,
             "workers": self.workers,
             "vector": self.vector,
+            "backend": self.backend,
             "wall_time": self.wall_time,
             "episodes": [asdict(r) for r in self.episodes],
         }
@@ -136,6 +138,7 @@ class EvaluationResult:
             workers=data.get("workers", 1),
             vector=data.get("vector"),
             wall_time=data.get("wall_time", 0.0),
+            backend=data.get("backend", "process"),
         )
 
     def save(self, path: str | Path) -> Path:

@@ -68,6 +68,7 @@ def evaluate(
     video_dir: str | Path | None = None,
     videos: int = 3,
     progress: Callable[[EpisodeRecord], None] | None = None,
+    backend: str = "process",
 ) -> EvaluationResult:
     """Evaluate a policy on ``task`` and return every episode's record and the summary.
 
@@ -80,8 +81,12 @@ def evaluate(
     process should hold the policy). The remaining settings default to the protocol;
     changing them marks the result unofficial. ``video_dir``: write an mp4 of the
     external camera for the first ``videos`` episodes. ``progress``: called with each
-    finished episode's record, in completion order.
+    finished episode's record, in completion order. ``backend``: ``"process"`` (a local
+    spawn-context pool) or ``"ray"`` (one Ray actor per worker, on a local instance or the
+    cluster Ray is connected to: :mod:`bigym.scale_out`); the records are the same.
     """
+    from bigym.scale_out import check_backend
+
     from bigym.demonstrations.player import resolve_task
 
     cls = resolve_task(task)
@@ -109,6 +114,7 @@ def evaluate(
     if video_dir is not None and vector is not None:
         raise ValueError("videos are recorded without a vector env: drop vector or video_dir")
     check_portable(policy)
+    check_backend(backend)
     n = len(settings.seeds)
     workers = max(1, min(workers or min(8, os.cpu_count() or 1), n))
     if vector is None:
@@ -122,35 +128,19 @@ def evaluate(
     started = time.perf_counter()
     records: dict[int, EpisodeRecord] = {}
     fingerprints: list[dict] = []
-    context = multiprocessing.get_context("spawn")
-    finished = context.Queue()
-    init_args = (
-        settings,
-        policy,
-        vector,
-        envs_per_worker,
-        str(video_dir) if video_dir else None,
-        video_seeds,
-        finished,
-    )
-    with child_environment(_THREAD_SETTINGS), ProcessPoolExecutor(workers, context, _init_worker, init_args) as pool:
-        order = {pool.submit(_run_job, job): index for index, job in enumerate(jobs)}
-        running = set(order)
-        try:
-            while running:
-                done, running = wait(running, timeout=0.2, return_when=FIRST_COMPLETED)
-                _drain(finished, records, progress)
-                for future in sorted(done, key=order.get):  # the earliest job's error first, every time
-                    worker_fingerprint, job_records = future.result()  # re-raises a worker's EvaluationError
-                    fingerprints.append(worker_fingerprint)
-                    for record in job_records:
-                        if record.seed not in records and progress is not None:
-                            progress(record)
-                        records[record.seed] = record
-        except BaseException:
-            for future in running:  # do not wait for episodes nobody will read
-                future.cancel()
-            raise
+
+    def collect(worker_fingerprint: dict, job_records: list[EpisodeRecord]) -> None:
+        fingerprints.append(worker_fingerprint)
+        for record in job_records:
+            if record.seed not in records and progress is not None:
+                progress(record)
+            records[record.seed] = record
+
+    init_args = (settings, policy, vector, envs_per_worker, str(video_dir) if video_dir else None, video_seeds)
+    if backend == "ray":
+        _run_on_ray(jobs, workers, init_args, collect)
+    else:
+        _run_on_pool(jobs, workers, init_args, collect, records, progress)
     if any(f != fingerprints[0] for f in fingerprints):
         raise EvaluationError("workers evaluated different models: the fingerprints of their envs differ")
     evaluated = fingerprints[0]
@@ -164,7 +154,76 @@ def evaluate(
         workers=workers,
         vector=vector,
         wall_time=time.perf_counter() - started,
+        backend=backend,
     )
+
+
+def _run_on_pool(jobs, workers, init_args, collect, records, progress) -> None:
+    """The jobs on a spawn-context process pool; episodes are reported as they finish."""
+    context = multiprocessing.get_context("spawn")
+    finished = context.Queue()
+    initialiser = (_init_worker, (*init_args, finished))
+    with child_environment(_THREAD_SETTINGS), ProcessPoolExecutor(workers, context, *initialiser) as pool:
+        order = {pool.submit(_run_job, job): index for index, job in enumerate(jobs)}
+        running = set(order)
+        try:
+            while running:
+                done, running = wait(running, timeout=0.2, return_when=FIRST_COMPLETED)
+                _drain(finished, records, progress)
+                for future in sorted(done, key=order.get):  # the earliest job's error first, every time
+                    collect(*future.result())  # re-raises a worker's EvaluationError
+        except BaseException:
+            for future in running:  # do not wait for episodes nobody will read
+                future.cancel()
+            raise
+
+
+class _RayWorker:
+    """One evaluation worker as a Ray actor: the pool worker's set-up, then its jobs."""
+
+    def __init__(self, *init_args) -> None:
+        _init_worker(*init_args, _NoQueue())
+
+    def run(self, job):
+        return _run_job(job)
+
+
+class _NoQueue:
+    """Ray actors report episodes with their job's result, not through a queue."""
+
+    def put(self, record) -> None:
+        pass
+
+
+def _run_on_ray(jobs, workers, init_args, collect) -> None:
+    """The jobs on ``workers`` Ray actors, each given the next job when it is free."""
+    from bigym.scale_out import ensure_ray, unwrap, worker_environment
+
+    ray = ensure_ray(num_cpus=workers)
+    # an actor holds its CPU for the whole evaluation: no more actors than the cluster has CPUs
+    workers = max(1, min(workers, int(ray.cluster_resources().get("CPU", workers))))
+    options = {"num_cpus": 1, "runtime_env": {"env_vars": worker_environment(_THREAD_SETTINGS)}}
+    actors = [ray.remote(_RayWorker).options(**options).remote(*init_args) for _ in range(workers)]
+    queue = list(enumerate(jobs))
+    running: dict = {}
+
+    def give(actor) -> None:
+        if queue:
+            index, job = queue.pop(0)
+            running[actor.run.remote(job)] = (index, actor)
+
+    try:
+        for actor in actors:
+            give(actor)
+        while running:
+            done, _ = ray.wait(list(running), num_returns=1)
+            for ref in sorted(done, key=lambda r: running[r][0]):  # the earliest job's error first
+                _, actor = running.pop(ref)
+                collect(*unwrap(ray, ref))  # raises a worker's EvaluationError as itself
+                give(actor)
+    finally:
+        for actor in actors:
+            ray.kill(actor)
 
 
 def _drain(finished, records: dict[int, EpisodeRecord], progress) -> None:

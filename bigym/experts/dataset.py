@@ -178,6 +178,7 @@ def build_dataset(
     per_task: int = DEMOS_PER_TASK,
     on_task=None,
     resume: bool = True,
+    backend: str = "process",
 ) -> list:
     """Regenerate the dataset version into the store folder ``out``, one task at a time.
 
@@ -188,6 +189,8 @@ def build_dataset(
     ``out/<version>/build.json`` as it finishes. Returns the
     :class:`~bigym.experts.generate.GenerationReport` of every task built;
     ``on_task(task, report_or_None)`` is called as each task finishes or is skipped.
+    ``backend``: ``"process"`` (a local pool) or ``"ray"`` (:mod:`bigym.scale_out`); the
+    files are the same either way.
     """
     import platform
     import time
@@ -205,7 +208,7 @@ def build_dataset(
             continue
         start = time.perf_counter()
         report = generate_demos(
-            task, n=per_task, seed=FIRST_SEED, workers=workers, progress=progress, date=DATASET_DATE
+            task, n=per_task, seed=FIRST_SEED, workers=workers, progress=progress, date=DATASET_DATE, backend=backend
         )
         seconds = time.perf_counter() - start
         if report.kept < per_task:
@@ -297,6 +300,59 @@ def dataset_table(store, tasks: tuple[str, ...] | None = None, progress: bool = 
     return "\n".join(lines)
 
 
+#: share of a dataset build's time spent recording (the rest replays every demo at four
+#: rates): recording alone took 17-27% of record-and-verify on reach, drawer and plate seeds
+RECORD_SHARE = 0.25
+
+
+class ShippedDataset:
+    """The recipe of the dataset version this bigym ships, for demos on demand.
+
+    Found by the demonstration system through the ``bigym.datasets`` entry point (see
+    :mod:`bigym.demonstrations.datasets`). It rebuilds a task's files by recording the
+    expert again on exactly the seeds the manifest lists, with the version's date: the
+    build's failed seeds and its replay checks are skipped, the sha256 of every file is
+    checked against the manifest by the caller.
+    """
+
+    version = DATASET_VERSION
+
+    def __init__(self) -> None:
+        self._manifest = None
+
+    def manifest(self):
+        from bigym.demonstrations.store import Manifest
+
+        if self._manifest is None:
+            path = shipped_manifest_path(self.version)
+            self._manifest = Manifest.from_json(path.read_text(), str(path))
+        return self._manifest
+
+    def estimate_seconds(self, task: str, entries: list, workers: int) -> float | None:
+        """From the shipped build record: its seconds per attempt, times the recording share."""
+        built = _read_record(build_record_path(self.version)).get("tasks", {}).get(task)
+        if not built or not built.get("attempts"):
+            return None
+        per_attempt = built["build_seconds"] * built.get("workers", 1) / built["attempts"]
+        return per_attempt * RECORD_SHARE * len(entries) / max(1, min(workers, len(entries)))
+
+    def build(self, task: str, entries: list, workers: int):
+        from bigym.demonstrations.errors import DemoBuildError
+        from bigym.experts.generate import regenerate
+
+        by_seed = {entry.seed: entry for entry in entries}
+        if None in by_seed or len(by_seed) != len(entries):
+            raise DemoBuildError(f"the shipped manifest does not give one seed per {task} demo")
+        for finished in regenerate(task, sorted(by_seed), FIRST_SEED, DATASET_DATE, workers):
+            for attempt in finished:
+                entry = by_seed[attempt.seed]
+                if not attempt.success:
+                    raise DemoBuildError(
+                        f"{entry.path} (seed {attempt.seed}) did not succeed when rebuilt: {attempt.reason}"
+                    )
+                yield entry, attempt.data
+
+
 def dataset_size(version: str = DATASET_VERSION) -> str:
     """One line on the shipped manifest's size: demos, bytes, hours, bytes per demo-second."""
     demos = json.loads(shipped_manifest_path(version).read_text())["demos"]
@@ -314,6 +370,7 @@ __all__ = [
     "DATASET_VERSION",
     "DEMOS_PER_TASK",
     "DatasetCheck",
+    "ShippedDataset",
     "build_dataset",
     "build_record_path",
     "check_dataset",

@@ -17,6 +17,7 @@ from __future__ import annotations
 import multiprocessing
 import os
 from collections import Counter
+from collections.abc import Iterable, Iterator
 from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -25,7 +26,7 @@ import numpy as np
 
 from bigym.experts.incidents import IncidentWatch
 from bigym.experts.motion import HumanStyle
-from bigym.experts.numerics import numerics_pinned, pinned_environment
+from bigym.experts.numerics import numerics_pinned, pinned_environment, pinned_settings
 
 CONTROL_FREQUENCY = 500.0  # the recording rate of the benchmark's demos
 #: down-sampled rates every kept demo must also replay at (checkpoints within tolerance,
@@ -222,6 +223,14 @@ def _job(args: tuple) -> Attempt:
     return record_attempt(*args)
 
 
+def _pinned_job(args: tuple) -> Attempt:
+    """A job in a worker that should have been started with pinned numerics (Ray): refuse to
+    record with other kernels, which would give other bytes."""
+    if not numerics_pinned():
+        raise RuntimeError("this worker's numpy runs on dispatched SIMD kernels: its demos would differ in bytes")
+    return record_attempt(*args)
+
+
 # ---------------------------------------------------------------------- many attempts
 def generate_demos(
     task: str,
@@ -235,6 +244,7 @@ def generate_demos(
     verify: bool = True,
     store=None,
     date: str | None = None,
+    backend: str = "process",
 ) -> GenerationReport:
     """Generate ``n`` verified demos of ``task`` (class name or alias).
 
@@ -244,7 +254,11 @@ def generate_demos(
     kernels are pinned (:mod:`bigym.experts.numerics`), so the files are the same on every
     machine; 1 worker runs in this process if it is already pinned. ``max_attempts``: give up after this
     many episodes (default ``3 n + 5``). ``date``: written into every demo (default: now;
-    fix it to make the files reproducible).
+    fix it to make the files reproducible). ``backend``: ``"process"`` or ``"ray"`` (Ray
+    tasks with the same pinned kernels; see :mod:`bigym.scale_out`).
+
+    The demos kept are those of the ``n`` lowest seeds that succeed, whatever the order in
+    which attempts finish: attempts stop only once every lower seed has finished.
     """
     from bigym.demonstrations import Demo
     from bigym.demonstrations.player import resolve_task
@@ -256,50 +270,18 @@ def generate_demos(
     attempts: list[Attempt] = []
     kept: list[Attempt] = []
 
-    def jobs():
-        for index in range(max_attempts):
-            yield (task, index, seed + index, style_dict, verify, date)
-
+    jobs = ((task, index, seed + index, style_dict, verify, date) for index in range(max_attempts))
+    finished_indices: set[int] = set()
     with _Progress(progress, f"{task}: generating", n) as advance:
-        # In this process only if numpy here already runs on pinned kernels; otherwise in
-        # workers started with them, so the files have the same bytes on every machine.
-        if workers == 1 and numerics_pinned():
-            for job in jobs():
-                attempt = _job(job)
+        for finished in run_attempts(jobs, workers, backend):
+            for attempt in finished:
                 attempts.append(attempt)
+                finished_indices.add(attempt.index)
                 if attempt.success:
                     kept.append(attempt)
                     advance()
-                if len(kept) >= n:
-                    break
-        else:
-            context = multiprocessing.get_context("spawn")  # spawn: numpy loads again, with the pinned kernels
-            with pinned_environment(), ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
-                queue = jobs()
-                running: dict = {}
-
-                def top_up() -> None:
-                    while len(running) < 2 * workers:
-                        job = next(queue, None)
-                        if job is None:
-                            return
-                        running[pool.submit(_job, job)] = job
-
-                top_up()
-                while running:
-                    done, _ = wait(running, return_when=FIRST_COMPLETED)
-                    for future in done:
-                        running.pop(future)
-                        attempt = future.result()
-                        attempts.append(attempt)
-                        if attempt.success:
-                            kept.append(attempt)
-                            advance()
-                    if len(kept) >= n:
-                        for future in running:
-                            future.cancel()
-                        break
-                    top_up()
+            if _first_successes_known(kept, finished_indices, n):
+                break
     attempts.sort(key=lambda a: a.index)
     # keep the n lowest seeds among the successes, so that the result does not depend on
     # which worker finished first
@@ -315,6 +297,71 @@ def generate_demos(
     if store is not None:
         store.add_many(demos)
     return GenerationReport(task, n, attempts, demos, paths)
+
+
+def _first_successes_known(kept: list[Attempt], finished: set[int], n: int) -> bool:
+    """Are the ``n`` lowest-index successes known: ``n`` successes, and every attempt below
+    the ``n``-th of them finished?"""
+    if len(kept) < n:
+        return False
+    last = sorted(a.index for a in kept)[n - 1]
+    return all(index in finished for index in range(last))
+
+
+def run_attempts(jobs: Iterable[tuple], workers: int, backend: str = "process") -> Iterator[list[Attempt]]:
+    """Run :func:`record_attempt` on each job's arguments, yielding the attempts that
+    finished together, as they finish.
+
+    In this process only if numpy here already runs on pinned kernels and one worker is
+    asked for; otherwise in spawned workers started with them (or Ray tasks, whose workers
+    get the same settings), so that the files have the same bytes on every machine.
+    Closing the iterator early cancels the jobs not started.
+    """
+    from bigym.scale_out import check_backend, run_tasks
+
+    check_backend(backend)
+    if backend == "ray":
+        for finished in run_tasks(_pinned_job, jobs, workers, env_vars=pinned_settings()):
+            yield [attempt for _, attempt in finished]
+        return
+    if workers == 1 and numerics_pinned():
+        for job in jobs:
+            yield [_job(job)]
+        return
+    context = multiprocessing.get_context("spawn")  # spawn: numpy loads again, with the pinned kernels
+    with pinned_environment(), ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        queue = iter(jobs)
+        running: dict = {}
+
+        def top_up() -> None:
+            while len(running) < 2 * workers:
+                job = next(queue, None)
+                if job is None:
+                    return
+                running[pool.submit(_job, job)] = job
+
+        try:
+            top_up()
+            while running:
+                done, _ = wait(running, return_when=FIRST_COMPLETED)
+                for future in done:
+                    running.pop(future)
+                yield [future.result() for future in done]
+                top_up()
+        finally:
+            for future in running:
+                future.cancel()
+
+
+def regenerate(
+    task: str, seeds: Iterable[int], first_seed: int, date: str, workers: int, backend: str = "process"
+) -> Iterator[list[Attempt]]:
+    """Record the expert again on ``seeds`` of a dataset built from ``first_seed`` on, with
+    its ``date``: the same bytes the dataset build kept for those seeds, without the replay
+    checks (the shipped manifest's sha256 proves the bytes). Yields attempts as they finish,
+    in lists like :func:`run_attempts`."""
+    jobs = [(task, seed - first_seed, seed, None, False, date) for seed in seeds]
+    return run_attempts(jobs, max(1, min(workers, len(jobs))), backend)
 
 
 class _Progress:
@@ -345,4 +392,13 @@ def seeds_of(report: GenerationReport) -> np.ndarray:
     return np.array([d.metadata.seed for d in report.demos])
 
 
-__all__ = ["Attempt", "GenerationReport", "close_envs", "failure_reason", "generate_demos", "record_attempt"]
+__all__ = [
+    "Attempt",
+    "GenerationReport",
+    "close_envs",
+    "failure_reason",
+    "generate_demos",
+    "record_attempt",
+    "regenerate",
+    "run_attempts",
+]

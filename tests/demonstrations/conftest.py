@@ -34,8 +34,9 @@ def expert_demos():
 
 @pytest.fixture()
 def local_store(tmp_path, expert_demos):
-    """A local store with three absolute ReachTargetSingle demos, and its own cache folder."""
-    store = DemoStore(tmp_path / "store", cache_dir=tmp_path / "cache")
+    """A local store with three absolute ReachTargetSingle demos, and its own cache folder
+    (not completed from the shipped dataset: these tests are about what the store holds)."""
+    store = DemoStore(tmp_path / "store", cache_dir=tmp_path / "cache", on_demand=False)
     for seed in (2, 3, 4):
         store.add(single_absolute(seed))
     return store

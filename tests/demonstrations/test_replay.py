@@ -274,12 +274,15 @@ def test_ray_is_optional_and_never_imported_unasked(expert_demos, tmp_path):
     assert done.returncode == 0, done.stderr
     assert "no ray" in done.stdout
     try:
-        import ray  # noqa: F401
+        import ray
     except ImportError:
         with pytest.raises(DemoError, match="pip install"):
             replay_many([expert_demos["single_delta"]], backend="ray", progress=False)
     else:  # ray installed here: the ray backend must give the same replay
-        result = replay_many([expert_demos["single_delta"]], backend="ray", workers=1, progress=False)
+        try:
+            result = replay_many([expert_demos["single_delta"]], backend="ray", workers=1, progress=False)
+        finally:
+            ray.shutdown()  # a one-CPU instance left running would starve later tests of Ray workers
         assert same_observations(result[0].observations, replay(expert_demos["single_delta"]).observations)
 
 
