@@ -62,6 +62,12 @@ class CameraRenderer:
             zip(self._cameras, self._mjv_cameras, self._buffers)
         ):
             if index == 0:
+                # mjv_updateScene places infinite planes (the floor) around the scene's
+                # camera *before* it moves that camera to this one: without this line the
+                # floor sits where the previous frame's last camera was, and an image
+                # depends on what was rendered before it (a reused env's first frame after
+                # reset differed from a fresh env's by up to 6 levels of RGB).
+                mujoco.mjv_updateCamera(model, data, camera, scene)
                 mujoco.mjv_updateScene(
                     model, data, self._option, self._perturb, camera, mujoco.mjtCatBit.mjCAT_ALL, scene
                 )

@@ -103,6 +103,26 @@ def test_envs_dropped_without_close_in_a_loop(reference, collect):
     del env
 
 
+def test_a_reused_env_shows_nothing_of_its_earlier_frames(reference):
+    """After an episode that carried the cameras elsewhere (the base walked back, crouched
+    and turned), ``reset`` gives a fresh env's images: MuJoCo places the floor plane by the
+    scene's camera, which held the previous frame's last camera until the renderer set it
+    first (the floor's shading then differed by up to 6 levels)."""
+    env = _make(TASKS[1])
+    env.reset(seed=SEEDS[1])
+    move = np.zeros(env.action_space.shape, np.float32)
+    move[:4] = (-0.01, 0.005, -0.004, 0.02)  # per step at 50 Hz: back, left, down, turning
+    for _ in range(40):
+        env.step(move)
+    first_frames = {seed: env.reset(seed=seed)[0] for seed in SEEDS}  # the frames right after reset
+    for seed in SEEDS:
+        fresh = _make(TASKS[1])
+        _assert_same(first_frames[seed], fresh.reset(seed=seed)[0], f"reset to seed {seed} after a walk")
+        fresh.close()
+        _assert_same(_episode(env, seed), reference[(TASKS[1], seed)], f"seed {seed} after a walk")
+    env.close()
+
+
 def test_envs_closed_and_rebuilt(reference):
     for i in range(3):
         env = _make(TASKS[0])

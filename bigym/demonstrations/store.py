@@ -220,6 +220,7 @@ class ReplayCache:
         payload = [
             FORMAT_VERSION,
             "episode-ends-at-first-terminal-step",  # replays cached before that rule are not served
+            "floor-placed-by-each-frame's-own-camera",  # nor images rendered before that fix
             demo_sha256,
             observation_config,
             substeps,
