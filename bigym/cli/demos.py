@@ -114,15 +114,15 @@ def _load_demos(store, demos: list[str] | None, task: str | None):
     return [store.load(entry) for entry in _task_entries(store, task)]
 
 
-def _task_entries(store, task: str) -> list:
+def _task_entries(store, task: str, hint: str = "") -> list:
     """Every demo of ``task`` in the store; a task it lacks is first completed from the
-    shipped dataset when one covers it (demos on demand)."""
+    shipped dataset when one covers it (demos on demand). ``hint``: what to do otherwise."""
     entries = store.entries(task=task)
     if not entries and store.on_demand:
         store.provide(task)
         entries = store.entries(task=task)
     if not entries:
-        _fail(f"no demos of {task} in {store.url} (version {store.version})")
+        _fail(f"no demos of {task} in {store.url} (version {store.version}){hint}")
     return entries
 
 
@@ -587,10 +587,10 @@ def stats(
     demos = None
     if source == "store":
         demo_store = _store(store, version)
-        entries = [e for e in demo_store.entries(task=name) if e.success][:n]
+        hint = "; generate some (`bigym demos generate`) or pass --source fresh"
+        entries = [e for e in _task_entries(demo_store, name, hint) if e.success][:n]
         if not entries:
-            _fail(f"no demos of {name} in {demo_store.url} (version {demo_store.version}); "
-                  "generate some (`bigym demos generate`) or pass --source fresh")  # fmt: skip
+            _fail(f"no successful demos of {name} in {demo_store.url} (version {demo_store.version}){hint}")
         demos = [demo_store.load(entry) for entry in entries]
     with console.status(f"measuring {name}"):
         report = demo_stats(name, demos=demos, n=n, seed=seed, plain=plain, plot=plot, progress=False)

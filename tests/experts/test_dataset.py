@@ -104,8 +104,11 @@ def test_generate_and_stats_fail_clearly(tmp_path):
     assert result.exit_code == 1 and "no expert for FlipCup" in result.output
     result = run("generate", "NoSuchTask", "--store", tmp_path / "s")
     assert result.exit_code == 1 and "unknown task" in result.output
-    result = run("stats", "DrawerTopOpen", "--store", tmp_path / "empty")
+    result = run("stats", "FlipCup", "--store", tmp_path / "empty")  # no shipped demos to build
     assert result.exit_code == 1 and "--source fresh" in result.output
+    result = run("stats", "ReachTargetSingle", "-n", 2, "--store", tmp_path / "empty")  # built on demand
+    assert result.exit_code == 0 and "building its 50 files" in result.output, result.output
+    assert "log dimensionless jerk" in result.output
 
 
 def test_shipped_manifest_lists_fifty_demos_of_each_task():
