@@ -16,6 +16,7 @@ import typer
 from rich.console import Console
 from rich.table import Table
 
+from bigym.cli.backend import RayAddressOption, start_backend
 from bigym.demonstrations.store import DATASET_VERSION
 
 demos_app = typer.Typer(help="Demonstrations: list, download, verify, replay, convert, export.", no_args_is_help=True)
@@ -26,9 +27,6 @@ StoreOption = Annotated[
     str | None, typer.Option("--store", help="Store URL or folder (default: $BIGYM_DEMO_STORE or the local store).")
 ]
 VersionOption = Annotated[str, typer.Option("--version", help="Dataset version in the store ('latest' allowed).")]
-RayAddressOption = Annotated[
-    str | None, typer.Option(help="With --backend ray: a Ray cluster's address (default: $RAY_ADDRESS, else local).")
-]
 TaskOption = Annotated[str | None, typer.Option("--task", help="Only demos of this task.")]
 FrequencyOption = Annotated[float | None, typer.Option("--frequency", "-f", help="Control rate in Hz (20-500).")]
 DemosArgument = Annotated[list[str] | None, typer.Argument(help="Demo files or uuids (default: every demo of --task).")]
@@ -60,18 +58,6 @@ def _handle_errors(command):
             _fail(f"{type(error).__name__}: {error}")
 
     return wrapper
-
-
-def _start_backend(backend: str, address: str | None, workers: int | None) -> None:
-    """Check the backend's name; for Ray, connect to ``address`` (or start a local instance) now."""
-    from bigym.scale_out import ensure_ray
-
-    if backend not in ("process", "ray", "serial"):
-        _fail(f"--backend must be 'process' or 'ray', got {backend!r}")
-    if address and backend != "ray":
-        _fail("--ray-address needs --backend ray")
-    if backend == "ray":
-        ensure_ray(address, num_cpus=workers)
 
 
 def _store(url: str | None, version: str):
@@ -285,8 +271,8 @@ def verify(
 
     from bigym.demonstrations.player import replay_many
 
+    start_backend(backend, ray_address, workers, _fail, allowed=("process", "ray", "serial"))
     loaded = _load_demos(_store(store, version), demos, task)
-    _start_backend(backend, ray_address, workers)
     results = replay_many(loaded, None, frequency, workers=workers, backend=backend, tolerance=tolerance,
                           errors="return", description="verifying demos")  # fmt: skip
     table = Table("uuid", "task", "rate", "steps", "checkpoints", "max divergence", "success", "result")
@@ -417,12 +403,12 @@ def export(
     rate = 500.0 / max(1, round(500.0 / frequency))
     if format == "lerobot" and abs(rate - round(rate)) > 1e-9:
         _fail(f"LeRobot needs whole frames per second; {frequency:g} Hz runs at {rate:g} Hz. Use 20, 25, 50, 100...")
+    start_backend(backend, ray_address, workers, _fail)
     demo_store = _store(store, version)
     name = canonical_task(task)
     action_mode = _mode_of(demo_store, name, mode)
     config = _observation_config(cameras, resolution, depth, False)
     query = Metadata(task=name, action_mode=action_mode, frequency=frequency, observation_config=config.to_dict())
-    _start_backend(backend, ray_address, workers)
     replayed = demo_store.get_demos(query, amount, frequency, convert=True, workers=workers, backend=backend,
                                     progress=True)  # fmt: skip
     if format == "lerobot":
@@ -634,7 +620,7 @@ def dataset_build(
         else:
             console.print(report.summary(), highlight=False)
 
-    _start_backend(backend, ray_address, workers)
+    start_backend(backend, ray_address, workers, _fail)
     build_dataset(out, tasks, workers=workers, on_task=done, resume=resume, backend=backend)
     console.print(f"dataset {DATASET_VERSION} written to {out}: serve it with DemoStore({str(out)!r})")
     if update_manifest:

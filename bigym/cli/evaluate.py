@@ -7,6 +7,8 @@ from typing import Annotated
 
 import typer
 from rich.progress import Progress
+
+from bigym.cli.backend import RayAddressOption, start_backend
 from rich.table import Table
 
 #: policy names the command knows, and the factory each stands for
@@ -66,9 +68,7 @@ def eval_command(
     backend: Annotated[str, typer.Option(help="process (a local pool) | ray (Ray actors, local or a cluster).")] = (
         "process"
     ),
-    ray_address: Annotated[
-        str | None, typer.Option(help="With --backend ray: a Ray cluster's address (default: $RAY_ADDRESS, else local).")
-    ] = None,
+    ray_address: RayAddressOption = None,
     control_frequency: Annotated[
         float | None, typer.Option(help="Control rate in Hz (the protocol's: 50; a checkpoint's own).")
     ] = None,
@@ -90,12 +90,9 @@ def eval_command(
     from bigym.cli.app import _fail, camera_names, console, progress_columns, task_class
     from bigym.evaluation import EvaluationError, PolicyLoadError, evaluate
     from bigym.observations import CameraConfig, ObservationConfig
+    from bigym.scale_out import RayUnavailableError
 
     cls = task_class(task)
-    if backend not in ("process", "ray"):
-        _fail(f"--backend must be 'process' or 'ray', got {backend!r}")
-    if ray_address and backend != "ray":
-        _fail("--ray-address needs --backend ray")
     try:
         spec = policy_spec(policy, cls.__name__)
     except ImportError as error:
@@ -128,10 +125,7 @@ def eval_command(
         control_frequency = control_frequency if control_frequency is not None else trained.frequency
     columns = progress_columns("{task.fields[successes]} successes")
     try:
-        if backend == "ray":
-            from bigym.scale_out import ensure_ray
-
-            ensure_ray(ray_address, num_cpus=workers)
+        start_backend(backend, ray_address, workers, _fail)
         with Progress(*columns, console=console) as progress:
             bar = progress.add_task(f"{cls.__name__} ({policy})", total=episodes, successes=0)
             successes = 0
@@ -156,7 +150,7 @@ def eval_command(
                 progress=advance,
                 backend=backend,
             )
-    except (EvaluationError, ValueError, RuntimeError) as error:
+    except (EvaluationError, ValueError, RayUnavailableError) as error:
         _fail(str(error))
     console.print(summary_table(result))
     if not result.official:

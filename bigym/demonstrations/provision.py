@@ -99,12 +99,12 @@ def provide_task(
         return None
     start = time.perf_counter()
     folder = store.version_folder
-    lock = folder / f".provide-{task}.lock"
-    with file_lock(lock, on_wait=lambda: notify(f"waiting for another process that is providing {task} in {store.url}")):
+    waiting = f"waiting for another process that is providing {task} in {store.url}"
+    with file_lock(folder / f".provide-{task}.lock", on_wait=lambda: notify(waiting)):
         for path in rebuild:
             (folder / path).unlink(missing_ok=True)
         sweep_partial_files(folder / task)
-        missing = [e for e in expected if not _file_matches(folder / e.path, e)]
+        missing = [e for e in expected if not file_matches(folder / e.path, e)]
         source = "none needed"
         if missing:
             workers = workers or min(8, os.cpu_count() or 1)
@@ -126,7 +126,8 @@ def provide_task(
     )  # fmt: skip
 
 
-def _file_matches(path: Path, entry: ManifestEntry) -> bool:
+def file_matches(path: Path, entry: ManifestEntry) -> bool:
+    """``path`` holds ``entry``'s file: its size and sha256."""
     return path.is_file() and path.stat().st_size == entry.size and sha256_file(path) == entry.sha256
 
 
@@ -215,4 +216,12 @@ def notify(message: str) -> None:
     print(f"bigym: {message}", file=sys.stderr, flush=True)
 
 
-__all__ = ["MIRROR_VARIABLE", "ProvisionReport", "notify", "provide_task", "shipped_entries", "shipped_tasks"]
+__all__ = [
+    "MIRROR_VARIABLE",
+    "ProvisionReport",
+    "file_matches",
+    "notify",
+    "provide_task",
+    "shipped_entries",
+    "shipped_tasks",
+]

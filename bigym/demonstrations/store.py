@@ -458,11 +458,15 @@ class DemoStore:
                 advance()
         return paths
 
-    def _check_against_shipped(self, entry: ManifestEntry, source: str) -> None:
-        """A hosted copy of a shipped dataset must serve the shipped bytes, whatever its own manifest says."""
+    def _shipped_entry(self, entry: ManifestEntry) -> ManifestEntry | None:
+        """The shipped dataset's entry at ``entry``'s path, if the version ships one."""
         from bigym.demonstrations.provision import shipped_entries
 
-        shipped = next((e for e in shipped_entries(self.version, entry.task) if e.path == entry.path), None)
+        return next((e for e in shipped_entries(self.version, entry.task) if e.path == entry.path), None)
+
+    def _check_against_shipped(self, entry: ManifestEntry, source: str) -> None:
+        """A hosted copy of a shipped dataset must serve the shipped bytes, whatever its own manifest says."""
+        shipped = self._shipped_entry(entry)
         if shipped is not None and (shipped.sha256, shipped.size) != (entry.sha256, entry.size):
             raise DemoChecksumError(
                 f"{source} differs from the dataset {self.version} this bigym ships (sha256 {entry.sha256[:16]}... "
@@ -489,12 +493,6 @@ class DemoStore:
 
         return self.on_demand and self.is_local and bool(shipped_entries(self.version, task, task_kwargs))
 
-    def _is_shipped(self, entry: ManifestEntry) -> bool:
-        from bigym.demonstrations.provision import shipped_entries
-
-        shipped = shipped_entries(self.version, entry.task)
-        return any((e.path, e.sha256, e.size) == (entry.path, entry.sha256, entry.size) for e in shipped)
-
     def load(self, entry: ManifestEntry | str) -> Demo:
         """The lightweight demo of a manifest entry (or uuid prefix), verified.
 
@@ -506,7 +504,8 @@ class DemoStore:
         try:
             path = self.fetch(entry)
         except (DemoChecksumError, DemoCorruptError, DemoNotFoundError) as error:
-            if not (self.on_demand and self.is_local and self._is_shipped(entry)):
+            shipped = self._shipped_entry(entry)
+            if not (self.on_demand and self.is_local and shipped is not None and shipped.sha256 == entry.sha256):
                 raise
             from bigym.demonstrations.provision import notify
 

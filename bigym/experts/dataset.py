@@ -144,11 +144,12 @@ def task_complete(out: Path | str, task: str, per_task: int = DEMOS_PER_TASK) ->
     """The store folder ``out`` already holds ``task``'s slice of the version: exactly the
     files the shipped manifest lists for it (or, for a task the manifest does not list yet,
     the files a build recorded for it in ``out``), each present with its size and sha256."""
-    from bigym.demonstrations.demo import sha256_file
+    from bigym.demonstrations.provision import file_matches
     from bigym.demonstrations.store import DemoStore
 
     store = DemoStore(out, version=DATASET_VERSION)
-    held = {(e.path, e.size, e.sha256) for e in store.entries(task=task)}
+    entries = store.entries(task=task)
+    held = {(e.path, e.size, e.sha256) for e in entries}
     if len(held) != per_task:
         return False
     shipped = shipped_manifest_path()
@@ -164,10 +165,7 @@ def task_complete(out: Path | str, task: str, per_task: int = DEMOS_PER_TASK) ->
         if sorted(recorded.get("files", [])) != sorted(p for p, _, _ in held):
             return False
     folder = Path(out) / DATASET_VERSION
-    return all(
-        (folder / p).is_file() and (folder / p).stat().st_size == size and sha256_file(folder / p) == sha
-        for p, size, sha in held
-    )
+    return all(file_matches(folder / e.path, e) for e in entries)
 
 
 def build_dataset(
