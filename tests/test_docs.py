@@ -66,6 +66,7 @@ def test_readme_setup_commands_match_ci():
     readme = (REPO / "README.md").read_text()
     ci = (REPO / ".ci" / "run").read_text()
     command = (
+        "(command -v chromium || (apt-get update && apt-get install -y --no-install-recommends chromium)) && "
         "python3 -m venv .venv && . .venv/bin/activate && pip install torch==2.13.0 && "
         'pip install -e ".[dev,train,ray]" && python -m pytest -q'
     )

@@ -6,6 +6,7 @@
 * the evaluation protocol knows no policy, expert or baseline (it loads them by name);
 * the baselines know no expert and no evaluation (they learn from demos, and are evaluated by name);
 * the Ray backend (scale_out.py) knows no layer above it;
+* teleoperation knows no policy, evaluation or baseline, and nothing below it knows teleoperation;
 * nothing but the command line imports the command line.
 """
 
@@ -42,21 +43,23 @@ RULES = [
             "bigym.experts",
             "bigym.policies",
             "bigym.evaluation",
+            "bigym.teleop",
             "bigym.cli",
         ),
     ),
-    (["demonstrations"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli")),
+    (["demonstrations"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.teleop", "bigym.cli")),
     (
         ["envs", "props", "scenes"],
-        ("bigym.experts", "bigym.policies", "bigym.demonstrations", "bigym.evaluation", "bigym.cli"),
+        ("bigym.experts", "bigym.policies", "bigym.demonstrations", "bigym.evaluation", "bigym.teleop", "bigym.cli"),
     ),
-    (["experts", "policies.py"], ("bigym.evaluation", "bigym.cli")),
-    (["evaluation"], ("bigym.experts", "bigym.policies", "bigym.baselines", "bigym.cli")),
-    (["baselines"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli")),
+    (["experts", "policies.py"], ("bigym.evaluation", "bigym.teleop", "bigym.cli")),
+    (["evaluation"], ("bigym.experts", "bigym.policies", "bigym.baselines", "bigym.teleop", "bigym.cli")),
+    (["baselines"], ("bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.teleop", "bigym.cli")),
     (
         ["scale_out.py"],  # the Ray backend serves every layer, and so knows none of them
         ("bigym.envs", "bigym.demonstrations", "bigym.experts", "bigym.policies", "bigym.evaluation", "bigym.cli"),
     ),
+    (["teleop"], ("bigym.policies", "bigym.evaluation", "bigym.baselines", "bigym.cli")),
 ]
 
 
@@ -82,7 +85,7 @@ def _imports(path: Path) -> list[str]:
 @pytest.mark.parametrize(
     "parts, forbidden",
     RULES,
-    ids=["env_core", "demonstrations", "tasks", "producers", "evaluation", "baselines", "scale_out"],
+    ids=["env_core", "demonstrations", "tasks", "producers", "evaluation", "baselines", "scale_out", "teleop"],
 )
 def test_layers_point_down(parts, forbidden):
     files = _files(parts)

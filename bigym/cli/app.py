@@ -202,11 +202,13 @@ def props_gallery(out_dir: Annotated[Path, typer.Argument(help="Folder for the P
 
 from bigym.cli.demos import demos_app  # noqa: E402
 from bigym.cli.evaluate import eval_command  # noqa: E402
+from bigym.cli.teleop import teleop_command  # noqa: E402
 from bigym.cli.train import train_command  # noqa: E402
 
 app.add_typer(demos_app, name="demos")
 app.command("eval")(eval_command)
 app.command("train")(train_command)
+app.command("teleop")(teleop_command)
 
 
 def main() -> None:

@@ -29,7 +29,7 @@ CHECKPOINT_SPEC = int(
     | mujoco.mjtState.mjSTATE_MOCAP_QUAT
 )
 INITIAL_STATE_SPEC = int(mujoco.mjtState.mjSTATE_INTEGRATION)
-SOURCES = ("expert", "teleoperation", "policy", "random", "converted", "unknown")
+SOURCES = ("expert", "human", "teleoperation", "policy", "random", "converted", "unknown")
 
 
 def _now() -> str:

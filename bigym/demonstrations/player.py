@@ -226,6 +226,34 @@ def replay(
             env.close()
 
 
+#: down-sampled rates every verified demo also replays at (checkpoints within tolerance,
+#: success at the end), besides its own rate (bit for bit): the rates the paper's baselines
+#: trained at (robobase: 50, 25 and 20 Hz)
+VERIFY_RATES = (50.0, 25.0, 20.0)
+
+
+def verification_failure(
+    demo: Demo, rates: Sequence[float] = VERIFY_RATES, env_for: Callable[[float], object] | None = None
+) -> str | None:
+    """Why ``demo`` is not a verified demo, or None when it is: replayed from its file's
+    bytes at its own rate (bit for bit) and at each of ``rates`` (within tolerance), it
+    must reach success every time. ``env_for(rate)``: an env to reuse at that rate (a new
+    one is built when it gives None)."""
+    loaded = Demo.from_bytes(demo.to_bytes(), demo.metadata.uuid)
+    for rate in (float(demo.metadata.frequency), *(float(r) for r in rates)):
+        env = env_for(rate) if env_for is not None else None
+        try:
+            if env is None:
+                replayed = replay(loaded, frequency=rate, verify=True)
+            else:
+                replayed = replay(loaded, env=env, verify=True)
+        except DemoError as error:
+            return f"replay at {rate:g} Hz failed: {error}"
+        if replayed.report.first_success_step is None:
+            return f"replay at {rate:g} Hz failed: never succeeded"
+    return None
+
+
 def _modes_equal(a, b) -> bool:
     return normalise_action_mode(a) == normalise_action_mode(b)
 

@@ -23,7 +23,7 @@ from typing import Any, ClassVar
 import numpy as np
 
 from bigym.experts.geometry import JointMotion, axis_angle_matrix, frame_from_axes, interpolate_rotation
-from bigym.experts.ik import WholeBodyIK
+from bigym.experts.ik import IkAction, WholeBodyIK
 from bigym.experts.motion import Human, HumanStyle, MinimumJerkSpline
 from bigym.robot.h1 import ARM_JOINTS, STANDING_HEIGHT
 
@@ -45,8 +45,6 @@ LAG_LIMIT = 0.04
 #: ... but never longer than this (s) at a time
 MAX_WAIT = 0.3
 ARM_IDLE_COST = 2.0
-#: actions are rounded to multiples of 1 / ACTION_GRID_STEPS (~8 micro-rad / micro-m)
-ACTION_GRID_STEPS = 2.0**17
 #: idle arm posture (hands held loosely in front of the belly, clear of open drawers), left
 #: arm; the right arm mirrors roll and yaw
 IDLE_ARM = {"shoulder_pitch": 0.5, "shoulder_roll": 0.12, "shoulder_yaw": -0.15, "elbow": -0.5, "wrist": 0.0}
@@ -113,18 +111,7 @@ class Expert:
         self.dt = 1.0 / self.env.control_frequency
         self.ik_every = max(1, round(self.env.control_frequency / ik_rate))
         self.ik = WholeBodyIK(self.env)
-        layout = self.env.action_layout
-        self._n = len(layout)
-        self._low = self.env.action_space.low.astype(np.float64)
-        self._high = self.env.action_space.high.astype(np.float64)
-        names = [e.name for e in layout.entries]
-        self._grip_index = np.array([names.index("left_gripper"), names.index("right_gripper")])
-        # the base and arm entries lead the action layout, in the IK's joint order
-        self._joint_action = np.arange(len(self.ik.joint_names))
-        leading = [e.group for e in layout.entries[: len(self.ik.joint_names)]]
-        if any(group not in ("base", "left_arm", "right_arm") for group in leading):
-            raise ValueError("unexpected action layout: base and arm entries must lead")
-        self._base_mask = self.ik.is_base
+        self._action = IkAction(self.env, self.ik)
         self.model, self.data = self.env.model, self.env.data
         self._started = False
         self.choices: dict[str, Any] = {}
@@ -218,18 +205,11 @@ class Expert:
             self._q_from = self.ik.q.copy()
             self._solve(self.time + self.ik_every * self.dt, self.ik_every * self.dt)
         q = self._q_from + (k + 1) / self.ik_every * (self.ik.q - self._q_from)
-        action = np.zeros(self._n)
-        joints = np.where(self._base_mask, q - self.data.ctrl[self._joint_action], q)
-        action[self._joint_action] = joints
-        action[self._grip_index] = self.grip
         self.step_index += 1
         if not frozen:
             self.time += self.dt
-        # On the action grid: last-bit differences of the IK's linear algebra (BLAS kernels
-        # differ between CPUs) vanish, so a regenerated dataset has the same bytes.
-        np.round(action * ACTION_GRID_STEPS, out=action)
-        action /= ACTION_GRID_STEPS
-        return np.clip(action, self._low, self._high)
+        # on the action grid: a regenerated dataset has the same bytes on any CPU
+        return self._action(q, self.grip)
 
     def _lagging(self) -> bool:
         """Whether the plan should wait for the body to catch up (a person slows down

@@ -29,9 +29,6 @@ from bigym.experts.motion import HumanStyle
 from bigym.experts.numerics import numerics_pinned, pinned_environment, pinned_settings
 
 CONTROL_FREQUENCY = 500.0  # the recording rate of the benchmark's demos
-#: down-sampled rates every kept demo must also replay at (checkpoints within tolerance,
-#: success at the end): the rates the paper's baselines trained at (robobase: 50, 25 and 20 Hz)
-VERIFY_RATES = (50.0, 25.0, 20.0)
 #: seconds recorded after the first success: a margin for replays at lower rates, which
 #: reach success a little later (0.2 s was too little for the dishwasher door)
 AFTER_SUCCESS = 1.0
@@ -166,7 +163,8 @@ def record_attempt(
     kernels: :func:`generate_demos` runs it in workers with pinned kernels, so that its
     files are the same on every machine.
     """
-    from bigym.demonstrations import Demo, DemoError, DemoRecorder, replay
+    from bigym.demonstrations import DemoRecorder
+    from bigym.demonstrations.player import VERIFY_RATES, verification_failure
     from bigym.experts import make_expert
 
     env = _env(task)
@@ -204,19 +202,12 @@ def record_attempt(
         expert_choices=choices,
         expert_style=(style or HumanStyle().to_dict()),
     )
-    data = demo.to_bytes()
     if verify:
-        loaded = Demo.from_bytes(data, f"seed {seed}")
-        for rate in (CONTROL_FREQUENCY, *VERIFY_RATES):
-            try:
-                # from the file's bytes, in a reused env per rate: no model build per demo
-                replayed = replay(loaded, env=_env(task, rate), verify=True)
-            except DemoError as error:
-                return Attempt(index, seed, False, f"replay at {rate:g} Hz failed: {error}", None, duration, choices)
-            if replayed.report.first_success_step is None:
-                reason = f"replay at {rate:g} Hz failed: never succeeded"
-                return Attempt(index, seed, False, reason, None, duration, choices)
-    return Attempt(index, seed, True, None, data, duration, choices)
+        # from the file's bytes, in a reused env per rate: no model build per demo
+        reason = verification_failure(demo, VERIFY_RATES, env_for=lambda rate: _env(task, rate))
+        if reason is not None:
+            return Attempt(index, seed, False, reason, None, duration, choices)
+    return Attempt(index, seed, True, None, demo.to_bytes(), duration, choices)
 
 
 def _job(args: tuple) -> Attempt:

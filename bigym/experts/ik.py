@@ -26,6 +26,8 @@ import numpy as np
 from bigym.robot.h1 import ARM_JOINTS, SIDES, RobotConfig, build_robot
 
 SOLVER = "daqp"
+#: actions are rounded to multiples of 1 / ACTION_GRID_STEPS (~8 micro-rad / micro-m)
+ACTION_GRID_STEPS = 2.0**17
 #: velocity caps (rad/s or m/s) of the commanded motion: brisk but human
 ARM_SPEED = 3.0
 WRIST_SPEED = 4.0
@@ -245,4 +247,38 @@ class WholeBodyIK:
         return self.q
 
 
-__all__ = ["WholeBodyIK", "ik_model"]
+class IkAction:
+    """The benchmark's action (floating base, absolute joint positions) for a commanded
+    configuration of :class:`WholeBodyIK` and two gripper commands: absolute arm joint
+    targets, base *deltas* of the env's base servo targets, and the grippers, on the action
+    grid (multiples of ``1 / ACTION_GRID_STEPS``: last-bit differences of the IK's linear
+    algebra between CPUs vanish, and the actions pack compactly), within the action space."""
+
+    def __init__(self, env, ik: WholeBodyIK) -> None:
+        env = env.unwrapped
+        if not getattr(env.action_mode, "absolute", False) or env.action_mode.torque:
+            raise ValueError("the IK drives JointPositionActionMode(floating_base=True, absolute=True) actions")
+        self.data = env.data
+        layout = env.action_layout
+        names = [e.name for e in layout.entries]
+        self.size = len(layout)
+        self.grip_index = np.array([names.index("left_gripper"), names.index("right_gripper")])
+        # the base and arm entries lead the action layout, in the IK's joint order
+        self.joint_action = np.arange(len(ik.joint_names))
+        leading = [e.group for e in layout.entries[: len(ik.joint_names)]]
+        if any(group not in ("base", "left_arm", "right_arm") for group in leading):
+            raise ValueError("unexpected action layout: base and arm entries must lead")
+        self.base_mask = ik.is_base
+        self.low = env.action_space.low.astype(np.float64)
+        self.high = env.action_space.high.astype(np.float64)
+
+    def __call__(self, q: np.ndarray, grip: np.ndarray) -> np.ndarray:
+        action = np.zeros(self.size)
+        action[self.joint_action] = np.where(self.base_mask, q - self.data.ctrl[self.joint_action], q)
+        action[self.grip_index] = grip
+        np.round(action * ACTION_GRID_STEPS, out=action)
+        action /= ACTION_GRID_STEPS
+        return np.clip(action, self.low, self.high)
+
+
+__all__ = ["ACTION_GRID_STEPS", "IkAction", "WholeBodyIK", "ik_model"]
