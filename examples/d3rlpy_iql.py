@@ -12,8 +12,10 @@ then evaluate the model on the official seeds, like any other policy::
 
 The demos become d3rlpy's ``MDPDataset`` through :mod:`bigym.demonstrations.transitions`:
 flat observations (d3rlpy rejects Dict observations) and actions scaled to [-1, 1] (its
-policies are tanh-bounded); the same ``FlatSpaces``, saved beside the model, map the env's
-observations in and the model's actions back out at evaluation time.
+policies are tanh-bounded), the floating base as servo targets (a policy that outputs the
+env's per-step base moves adds up its errors and walks away); the same ``FlatSpaces``, saved
+beside the model, map the env's observations in and the model's actions back out at
+evaluation time.
 """
 
 from __future__ import annotations
@@ -97,7 +99,7 @@ class IQLPolicy:
 
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         scaled = self.model.predict(self.spaces.flatten(obs)[None])[0]
-        return self.spaces.unscale(scaled)
+        return self.spaces.env_action(scaled, obs)
 
 
 def policy(env) -> IQLPolicy:

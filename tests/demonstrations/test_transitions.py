@@ -47,7 +47,8 @@ def test_rows_follow_the_replayed_episodes(env_and_demos):
 
 def test_actions_are_scaled_to_the_unit_box_and_back(env_and_demos):
     env, replayed = env_and_demos
-    data = transitions(replayed, env)
+    data = transitions(replayed, env, base="moves")
+    assert not data.spaces.base_targets
     assert data.actions.dtype == np.float32
     assert data.actions.min() >= -1.0 and data.actions.max() <= 1.0
     np.testing.assert_allclose(data.spaces.unscale(data.actions), replayed[0].actions, atol=2e-6)
@@ -57,6 +58,32 @@ def test_actions_are_scaled_to_the_unit_box_and_back(env_and_demos):
     np.testing.assert_allclose(data.spaces.scale((low + high) / 2), 0.0, atol=1e-6)
     # predictions beyond the box are clipped to the action bounds, never past them
     np.testing.assert_allclose(data.spaces.unscale(np.full(len(low), 3.0)), high, rtol=1e-6)
+
+
+def test_base_targets_give_back_the_env_actions_and_stay_inside_what_the_demos_visited(env_and_demos):
+    env, replayed = env_and_demos
+    demo = replayed[0]
+    data = transitions(replayed, env)  # base="targets" by default
+    spaces = data.spaces
+    assert spaces.base_targets and data.actions.min() >= -1.0 and data.actions.max() <= 1.0
+    base = list(spaces.base_actions)
+    targets = demo.observations["proprioception_floating_base_actions"]
+    # a model action is the base target after the step: the next observation's targets
+    np.testing.assert_allclose(spaces.unscale(data.actions)[:, base], targets[1:], atol=2e-6)
+    # and turns back into the env's move from the target observed before the step
+    for t in range(len(demo)):
+        obs = {key: value[t] for key, value in demo.observations.items()}
+        np.testing.assert_allclose(spaces.env_action(data.actions[t], obs), demo.actions[t], atol=1e-6)
+    # a wild prediction becomes a move within the env's bounds, never past them
+    obs = {key: value[0] for key, value in demo.observations.items()}
+    wild = spaces.env_action(np.full(spaces.action_size, 1.0), obs)
+    assert env.action_space.contains(wild)
+    # the saved spaces act the same
+    loaded = FlatSpaces.from_dict(spaces.to_dict())
+    assert loaded.base_actions == spaces.base_actions and loaded.base_observed == spaces.base_observed
+    np.testing.assert_array_equal(loaded.env_action(data.actions[-1], obs), spaces.env_action(data.actions[-1], obs))
+    with pytest.raises(ValueError, match="targets"):
+        transitions(replayed, env, base="deltas")
 
 
 def test_flat_observations_match_gymnasiums_flatten_wrapper(env_and_demos):
