@@ -7,8 +7,10 @@ seeds (``bigym eval``) and writes ``<out>/<method>-<Task>.json`` (the evaluation
 how it was trained). Checkpoints go to ``--work`` (default ``$BIGYM_HOME/baselines``); a
 pair whose record exists is skipped and an interrupted training resumes, so the command can
 be stopped and started again. It ends by printing the Markdown table of all records in
-``<out>``. ``--all-tasks`` runs every task the store has demos for (on a GPU machine, set
-``--steps`` higher and ``--workers`` to the CPU count).
+``<out>``, with how chunks past a demo's end were trained (masked, the default, or held
+with ``--hold-end``, whose records are named ``*-held.json``). ``--all-tasks`` runs every
+task the store has demos for (on a GPU machine, set ``--steps`` higher and ``--workers``
+to the CPU count).
 """
 
 from __future__ import annotations
@@ -41,9 +43,9 @@ STEPS = {"bc": 20_000, "act": 10_000, "dp": 10_000}
 
 def run(
     method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int,
-    device: str,
+    device: str, hold_end: bool = False,
 ):  # fmt: skip
-    name = f"{method}{'-pixels' if cameras else ''}-{task}"
+    name = f"{method}{'-pixels' if cameras else ''}-{task}{'-held' if hold_end else ''}"
     record = out / f"{name}.json"
     if record.exists():
         return
@@ -51,7 +53,7 @@ def run(
     started = time.perf_counter()
     checkpoint = train(
         method, task, checkpoint_path, demos=50, cameras=cameras, privileged=not cameras, store=store,
-        settings={"steps": steps}, checkpoint_every=1000, workers=workers, device=device,
+        settings={"steps": steps, "hold_end": hold_end}, checkpoint_every=1000, workers=workers, device=device,
     )  # fmt: skip
     config = ObservationConfig.from_dict(checkpoint.observation_config)
     result = evaluate(checkpoint_factory(checkpoint_path), task, workers=workers, observation_config=config)
@@ -85,10 +87,16 @@ def machine(device: str) -> str:
     return where
 
 
+def chunk_end(config: dict) -> str:
+    """How the chunks that reach past a demo's end were trained (records from before the
+    setting existed were masked)."""
+    return "held" if config.get("hold_end", False) else "masked"
+
+
 def table(out: Path) -> str:
     lines = [
-        "| task | method | observations | success | 95% interval | demos | steps | training |",
-        "|---|---|---|---:|---:|---:|---:|---:|",
+        "| task | method | observations | chunk end | success | 95% interval | demos | steps | training |",
+        "|---|---|---|---|---:|---:|---:|---:|---:|",
     ]
     for path in sorted(out.glob("*.json")):
         data = json.loads(path.read_text())
@@ -98,7 +106,8 @@ def table(out: Path) -> str:
         official = "" if result.official else " (unofficial)"
         track = result.fingerprint["track"]
         lines.append(
-            f"| {data['task']} | {data['method']} | {track} | {s.successes}/{s.episodes}{official} "
+            f"| {data['task']} | {data['method']} | {track} | {chunk_end(training['config'])} "
+            f"| {s.successes}/{s.episodes}{official} "
             f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
             f"| {training['seconds'] / 60:.0f} min |"
         )
@@ -112,6 +121,7 @@ def main() -> None:
     parser.add_argument("--task", action="append", help=f"default: {', '.join(TASKS)}")
     parser.add_argument("--all-tasks", action="store_true", help="every task the store has demos for")
     parser.add_argument("--pixels", action="append", default=[], help="also train ACT from the 3 cameras on this task")
+    parser.add_argument("--hold-end", action="store_true", help="train chunks past a demo's end to hold its last action")
     parser.add_argument("--steps", type=int, help="training steps for every method (default: per method)")
     parser.add_argument("--work", type=Path, default=None, help="checkpoints (default: $BIGYM_HOME/baselines)")
     parser.add_argument("--out", type=Path, default=Path("results/baselines"))
@@ -128,10 +138,12 @@ def main() -> None:
             tasks = sorted({entry.task for entry in store.entries()})
         for task in tasks:
             for method in args.method or ["bc", "act", "dp"]:
-                run(method, task, store, work, args.out, args.steps or STEPS[method], (), args.workers, args.device)
+                steps = args.steps or STEPS[method]
+                run(method, task, store, work, args.out, steps, (), args.workers, args.device, args.hold_end)
         for task in args.pixels:
             cameras = ("head", "left_wrist", "right_wrist")
-            run("act", task, store, work, args.out, args.steps or STEPS["act"], cameras, args.workers, args.device)
+            steps = args.steps or STEPS["act"]
+            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, args.hold_end)
     print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
     print(table(args.out))
 

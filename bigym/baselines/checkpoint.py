@@ -75,5 +75,7 @@ class Checkpoint:
             raise ValueError(f"{path} is not a bigym baseline checkpoint")
         if data.get("format_version", 0) > FORMAT_VERSION:
             raise ValueError(f"{path} was written by a newer bigym (format {data['format_version']})")
+        # checkpoints written before chunk ends could be held trained with them masked
+        data["config"].setdefault("hold_end", False)
         fields = {f.name for f in dataclasses.fields(cls)}
         return cls(**{k: v for k, v in data.items() if k in fields})

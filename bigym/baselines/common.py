@@ -17,6 +17,10 @@ class TrainConfig:
     lr: float = 1e-4  # the paper's Adam learning rate
     weight_decay: float = 1e-4
     hidden: int = 256
+    # Demos end at their first success. False: a chunk that reaches past the end is masked
+    # there (ACT's is_pad); True: it is trained to hold the demo's last action, what the
+    # robot does if the episode goes on. Neither won on every task (README, "Baselines").
+    hold_end: bool = False
 
 
 def masked_l1(predicted: torch.Tensor, target: torch.Tensor, pad: torch.Tensor) -> torch.Tensor:

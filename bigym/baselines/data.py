@@ -102,7 +102,10 @@ def image_tensor(obs: dict, key: str) -> np.ndarray:
 class ChunkDataset:
     """All (observation, action chunk) samples of a list of replayed demos, held in memory."""
 
-    def __init__(self, demos: list, chunk: int, image_keys: list[str], normalizer: Normalizer | None = None) -> None:
+    def __init__(
+        self, demos: list, chunk: int, image_keys: list[str], normalizer: Normalizer | None = None,
+        hold_end: bool = False,
+    ) -> None:  # fmt: skip
         if not demos:
             raise ValueError("no demos to train on")
         self.state_keys = state_keys(demos[0].observations)
@@ -121,7 +124,7 @@ class ChunkDataset:
             targets = target_actions(demo, self.base_indices)
             actions.append(targets)
             index = np.arange(steps)[:, None] + np.arange(chunk)[None, :]
-            pads.append(index >= steps)
+            pads.append(np.zeros_like(index, dtype=bool) if hold_end else index >= steps)
             chunks.append(targets[np.minimum(index, steps - 1)])
             for key in self.image_keys:
                 images[key].append(obs[key])

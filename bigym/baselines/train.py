@@ -92,8 +92,9 @@ def train(
     out = Path(out)
     previous = Checkpoint.load(out) if out.exists() else None
     dataset = ChunkDataset(
-        replayed, config.chunk, image_keys, previous.make_normalizer() if previous is not None else None
-    )
+        replayed, config.chunk, image_keys, previous.make_normalizer() if previous is not None else None,
+        hold_end=config.hold_end,
+    )  # fmt: skip
     image_shapes = {k: list(dataset.images[k].shape[1:]) for k in image_keys}
     for key in image_keys:
         if key.startswith("depth_"):
@@ -189,7 +190,8 @@ def _check_resumable(previous: Checkpoint, new: Checkpoint, path: Path) -> None:
     same = ("method", "task", "action_mode", "frequency", "observation_config", "demos", "seed", "state_dim",
             "base_indices")  # fmt: skip
     differ = [name for name in same if getattr(previous, name) != getattr(new, name)]
-    settings = {k: v for k, v in previous.config.items() if k != "steps"}
+    # through the config class: a setting added since the checkpoint was written has its default
+    settings = {k: v for k, v in _config_dict(make_config(previous.method, previous.config)).items() if k != "steps"}
     if settings != {k: v for k, v in new.config.items() if k != "steps"}:
         differ.append("config")
     if differ:

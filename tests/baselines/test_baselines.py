@@ -178,3 +178,38 @@ def test_training_and_acting_from_a_camera(demo_store, tmp_path):
         assert not np.array_equal(seeing, policy(blind)), "the image reaches the action"
     finally:
         env.close()
+
+
+class _Demo:
+    """The parts of a replayed demo a ChunkDataset reads: 5 steps, 2 actions, no base."""
+
+    def __init__(self) -> None:
+        self.actions = np.arange(10, dtype=np.float64).reshape(5, 2)
+        self.observations = {"proprioception": np.arange(12, dtype=np.float32).reshape(6, 2)}
+        self.metadata = type("Metadata", (), {"action_names": ["arm_a", "arm_b"]})()
+
+
+@pytest.mark.parametrize("hold_end", [False, True])
+def test_chunks_past_a_demos_end_are_masked_or_held(hold_end):
+    from bigym.baselines.data import ChunkDataset
+
+    dataset = ChunkDataset([_Demo()], chunk=4, image_keys=[], hold_end=hold_end)
+    last = dataset.normalizer.unnormalize_actions(dataset.chunks[4].numpy())
+    assert np.allclose(last, [[8, 9]] * 4), "the chunk from the last step repeats the last action"
+    pads = dataset.pad.numpy()
+    if hold_end:
+        assert not pads.any(), "every step of every chunk is trained"
+    else:
+        assert pads[4].tolist() == [False, True, True, True] and pads[1].tolist() == [False] * 4
+
+
+def test_a_checkpoint_from_before_the_hold_end_setting_resumes(demo_store, tmp_path):
+    path = tmp_path / "old.pt"
+    small_run("bc", demo_store, path, 20)
+    old = Checkpoint.load(path)
+    del old.config["hold_end"]  # written before the setting existed: it trained with masked chunk ends
+    old.save(path)
+    assert Checkpoint.load(path).config["hold_end"] is False
+    assert small_run("bc", demo_store, path, 40).step == 40
+    with pytest.raises(ValueError, match="different training run"):
+        train("bc", TASK, path, demos=4, store=demo_store, settings={**SMALL["bc"], "steps": 60, "chunk": 8, "hold_end": True})
