@@ -190,8 +190,7 @@ def _check_resumable(previous: Checkpoint, new: Checkpoint, path: Path) -> None:
     same = ("method", "task", "action_mode", "frequency", "observation_config", "demos", "seed", "state_dim",
             "base_indices")  # fmt: skip
     differ = [name for name in same if getattr(previous, name) != getattr(new, name)]
-    # through the config class: a setting added since the checkpoint was written has its default
-    settings = {k: v for k, v in _config_dict(make_config(previous.method, previous.config)).items() if k != "steps"}
+    settings = {k: v for k, v in previous.config.items() if k != "steps"}
     if settings != {k: v for k, v in new.config.items() if k != "steps"}:
         differ.append("config")
     if differ:
