@@ -8,9 +8,10 @@ how it was trained). Checkpoints go to ``--work`` (default ``$BIGYM_HOME/baselin
 pair whose record exists is skipped and an interrupted training resumes, so the command can
 be stopped and started again. It ends by printing the Markdown table of all records in
 ``<out>``, with how chunks past a demo's end were trained (masked, the default, or held
-with ``--hold-end``, whose records are named ``*-held.json``). ``--all-tasks`` runs every
-task the store has demos for (on a GPU machine, set ``--steps`` higher and ``--workers``
-to the CPU count).
+with ``--hold-end``, whose records are named ``*-held.json``) and which weights acted (the
+last, or with ``--ema 0.999`` a moving average of them, records ``*-ema.json``).
+``--all-tasks`` runs every task the store has demos for (on a GPU machine, set ``--steps``
+higher and ``--workers`` to the CPU count).
 """
 
 from __future__ import annotations
@@ -43,9 +44,9 @@ STEPS = {"bc": 20_000, "act": 10_000, "dp": 10_000}
 
 def run(
     method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int,
-    device: str, hold_end: bool = False,
+    device: str, hold_end: bool = False, ema: float = 0.0,
 ):  # fmt: skip
-    name = f"{method}{'-pixels' if cameras else ''}-{task}{'-held' if hold_end else ''}"
+    name = f"{method}{'-pixels' if cameras else ''}-{task}{'-held' if hold_end else ''}{'-ema' if ema else ''}"
     record = out / f"{name}.json"
     if record.exists():
         return
@@ -53,7 +54,8 @@ def run(
     started = time.perf_counter()
     checkpoint = train(
         method, task, checkpoint_path, demos=50, cameras=cameras, privileged=not cameras, store=store,
-        settings={"steps": steps, "hold_end": hold_end}, checkpoint_every=1000, workers=workers, device=device,
+        settings={"steps": steps, "hold_end": hold_end, "ema": ema}, checkpoint_every=1000, workers=workers,
+        device=device,
     )  # fmt: skip
     config = ObservationConfig.from_dict(checkpoint.observation_config)
     result = evaluate(checkpoint_factory(checkpoint_path), task, workers=workers, observation_config=config)
@@ -93,10 +95,16 @@ def chunk_end(config: dict) -> str:
     return "held" if config.get("hold_end", False) else "masked"
 
 
+def acting_weights(config: dict) -> str:
+    """Which weights acted: the last ones, or the moving average (records from before the
+    setting existed acted with the last)."""
+    return f"EMA {config['ema']:g}" if config.get("ema", 0.0) else "last"
+
+
 def table(out: Path) -> str:
     lines = [
-        "| task | method | observations | chunk end | success | 95% interval | demos | steps | training |",
-        "|---|---|---|---|---:|---:|---:|---:|---:|",
+        "| task | method | observations | chunk end | weights | success | 95% interval | demos | steps | training |",
+        "|---|---|---|---|---|---:|---:|---:|---:|---:|",
     ]
     for path in sorted(out.glob("*.json")):
         data = json.loads(path.read_text())
@@ -107,6 +115,7 @@ def table(out: Path) -> str:
         track = result.fingerprint["track"]
         lines.append(
             f"| {data['task']} | {data['method']} | {track} | {chunk_end(training['config'])} "
+            f"| {acting_weights(training['config'])} "
             f"| {s.successes}/{s.episodes}{official} "
             f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
             f"| {training['seconds'] / 60:.0f} min |"
@@ -122,6 +131,7 @@ def main() -> None:
     parser.add_argument("--all-tasks", action="store_true", help="every task the store has demos for")
     parser.add_argument("--pixels", action="append", default=[], help="also train ACT from the 3 cameras on this task")
     parser.add_argument("--hold-end", action="store_true", help="train chunks past a demo's end to hold its last action")
+    parser.add_argument("--ema", type=float, default=0.0, help="act with a moving average of the weights, this decay")
     parser.add_argument("--steps", type=int, help="training steps for every method (default: per method)")
     parser.add_argument("--work", type=Path, default=None, help="checkpoints (default: $BIGYM_HOME/baselines)")
     parser.add_argument("--out", type=Path, default=Path("results/baselines"))
@@ -139,11 +149,12 @@ def main() -> None:
         for task in tasks:
             for method in args.method or ["bc", "act", "dp"]:
                 steps = args.steps or STEPS[method]
-                run(method, task, store, work, args.out, steps, (), args.workers, args.device, args.hold_end)
+                run(method, task, store, work, args.out, steps, (), args.workers, args.device, args.hold_end,
+                    args.ema)
         for task in args.pixels:
             cameras = ("head", "left_wrist", "right_wrist")
             steps = args.steps or STEPS["act"]
-            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, args.hold_end)
+            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, args.hold_end, args.ema)
     print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
     print(table(args.out))
 

@@ -68,7 +68,7 @@ def test_readme_setup_commands_match_ci():
     command = (
         "(command -v chromium || (apt-get update && apt-get install -y --no-install-recommends chromium)) && "
         "python3 -m venv .venv && . .venv/bin/activate && pip install torch==2.13.0 && "
-        'pip install -e ".[dev,train,ray]" && python -m pytest -q'
+        'pip install -e ".[dev,train,ray]" && python -m pytest -q -n auto --maxprocesses 4\n'
     )
     assert command in readme and command in ci
 

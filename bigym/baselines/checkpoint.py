@@ -1,5 +1,6 @@
 """Checkpoints: the model with everything needed to run it (normaliser, observation keys,
-action mode, rate) and to resume its training bit for bit (optimiser, random states)."""
+action mode, rate) and to resume its training bit for bit (optimiser, random states, the
+weight average)."""
 
 from __future__ import annotations
 
@@ -41,13 +42,19 @@ class Checkpoint:
     model: dict = field(default_factory=dict)
     optimizer: dict = field(default_factory=dict)
     rng: dict = field(default_factory=dict)
+    ema: dict = field(default_factory=dict)  # the weight average's state when config["ema"] > 0
+
+    @property
+    def acting_weights(self) -> dict:
+        """The weight average when the run kept one, else the last weights."""
+        return self.ema["weights"] if self.ema else self.model
 
     def build_model(self) -> torch.nn.Module:
         config = make_config(self.method, self.config)
         shapes = {k: tuple(v) for k, v in self.image_shapes.items()}
         model = make_model(self.method, config, self.state_dim, self.action_dim, shapes)
-        if self.model:
-            model.load_state_dict(self.model)
+        if self.acting_weights:
+            model.load_state_dict(self.acting_weights)
         return model
 
     def make_normalizer(self) -> Normalizer:
@@ -75,7 +82,8 @@ class Checkpoint:
             raise ValueError(f"{path} is not a bigym baseline checkpoint")
         if data.get("format_version", 0) > FORMAT_VERSION:
             raise ValueError(f"{path} was written by a newer bigym (format {data['format_version']})")
-        # checkpoints written before chunk ends could be held trained with them masked
-        data["config"].setdefault("hold_end", False)
+        # settings added since: the checkpoints written before trained without them
+        data["config"].setdefault("hold_end", False)  # chunk ends masked
+        data["config"].setdefault("ema", 0.0)  # the last weights act
         fields = {f.name for f in dataclasses.fields(cls)}
         return cls(**{k: v for k, v in data.items() if k in fields})

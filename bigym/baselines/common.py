@@ -21,6 +21,9 @@ class TrainConfig:
     # there (ACT's is_pad); True: it is trained to hold the demo's last action, what the
     # robot does if the episode goes on. Neither won on every task (README, "Baselines").
     hold_end: bool = False
+    # Decay of a moving average of the weights (bigym.baselines.ema) that then acts instead
+    # of the last weights; 0 keeps none. 0.999 averages over about the last 1,000 steps.
+    ema: float = 0.0
 
 
 def masked_l1(predicted: torch.Tensor, target: torch.Tensor, pad: torch.Tensor) -> torch.Tensor:

@@ -19,6 +19,7 @@ import bigym
 from bigym.action_modes import JointPositionActionMode
 from bigym.baselines.checkpoint import Checkpoint
 from bigym.baselines.data import ChunkDataset
+from bigym.baselines.ema import WeightAverage
 from bigym.baselines.methods import make_config, make_model
 from bigym.observations import CameraConfig, ObservationConfig, is_image_key
 
@@ -122,10 +123,13 @@ def train(
         method, config, dataset.state_dim, dataset.action_dim, {k: tuple(v) for k, v in image_shapes.items()}
     ).to(device)
     optimizer = torch.optim.AdamW(model.parameters(), lr=config.lr, weight_decay=config.weight_decay)
+    average = WeightAverage(model, config.ema) if config.ema != 0 else None
     if previous is not None:
         _check_resumable(previous, checkpoint, out)
         model.load_state_dict(previous.model)
         optimizer.load_state_dict(previous.optimizer)
+        if average is not None:
+            average.load_state_dict(previous.ema)
         generator.set_state(previous.rng["batches"])
         torch.set_rng_state(previous.rng["torch"])
         checkpoint.step, checkpoint.losses, checkpoint.train_seconds = (
@@ -142,6 +146,8 @@ def train(
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
         optimizer.step()
+        if average is not None:
+            average.update(model)
         recent.append(loss.item())
         done = step + 1
         if done % LOSS_EVERY == 0 or done == config.steps:
@@ -150,7 +156,7 @@ def train(
         if progress is not None:
             progress(done, config.steps, loss.item())
         if done % checkpoint_every == 0 or done == config.steps:
-            _write(checkpoint, model, optimizer, generator, done, started, out)
+            _write(checkpoint, model, optimizer, average, generator, done, started, out)
             started = time.perf_counter()
     if previous is not None and previous.step >= config.steps:
         return previous
@@ -170,11 +176,12 @@ def resolve_device(name: str) -> torch.device:
     return device
 
 
-def _write(checkpoint, model, optimizer, generator, step, started, out) -> None:
+def _write(checkpoint, model, optimizer, average, generator, step, started, out) -> None:
     checkpoint.step = step
     checkpoint.train_seconds += time.perf_counter() - started
     checkpoint.model = model.state_dict()
     checkpoint.optimizer = optimizer.state_dict()
+    checkpoint.ema = average.state_dict() if average is not None else {}
     checkpoint.rng = {"batches": generator.get_state(), "torch": torch.get_rng_state()}
     checkpoint.save(out)
 

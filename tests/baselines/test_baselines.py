@@ -27,8 +27,8 @@ STATE = ObservationConfig(privileged_information=True)
 TASK = "ReachTargetMultiModal"  # the demo_store fixture's task
 
 
-def small_run(method, demo_store, out, steps, **kwargs):
-    settings = {**SMALL[method], "steps": steps, "chunk": 8}
+def small_run(method, demo_store, out, steps, ema=0.0, **kwargs):
+    settings = {**SMALL[method], "steps": steps, "chunk": 8, "ema": ema}
     return train(method, TASK, out, demos=4, store=demo_store, settings=settings, **kwargs)
 
 
@@ -58,14 +58,17 @@ def test_training_lowers_the_loss_and_the_checkpoint_acts(method, demo_store, tm
 
 
 def test_resuming_gives_the_weights_of_an_uninterrupted_run(demo_store, tmp_path):
-    for method in ("bc", "act"):
-        straight = small_run(method, demo_store, tmp_path / f"{method}-straight.pt", 120, checkpoint_every=60)
-        small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 60)
-        resumed = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120, checkpoint_every=60)
+    for method, ema in (("bc", 0.0), ("act", 0.9)):
+        straight = small_run(method, demo_store, tmp_path / f"{method}-straight.pt", 120, checkpoint_every=60, ema=ema)
+        small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 60, ema=ema)
+        resumed = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120, checkpoint_every=60, ema=ema)
         assert resumed.step == 120
         for name, tensor in straight.model.items():
             assert torch.equal(tensor, resumed.model[name]), (method, name)
-        again = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120)
+        assert bool(resumed.ema) == (ema > 0) and straight.ema.keys() == resumed.ema.keys()
+        for name, tensor in straight.ema.get("weights", {}).items():
+            assert torch.equal(tensor, resumed.ema["weights"][name]), (method, "average", name)
+        again = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120, ema=ema)
         assert again.step == 120, "a finished run is not trained again"
     with pytest.raises(ValueError, match="different training run"):
         train("bc", TASK, tmp_path / "bc-resumed.pt", demos=4, store=demo_store, settings={"steps": 200})
@@ -213,3 +216,43 @@ def test_a_checkpoint_from_before_the_hold_end_setting_resumes(demo_store, tmp_p
     assert small_run("bc", demo_store, path, 40).step == 40
     with pytest.raises(ValueError, match="different training run"):
         train("bc", TASK, path, demos=4, store=demo_store, settings={**SMALL["bc"], "steps": 60, "chunk": 8, "hold_end": True})
+
+
+def test_the_weight_average_acts_when_a_run_keeps_one(demo_store, tmp_path):
+    from bigym.baselines.ema import WeightAverage
+
+    checkpoint = small_run("act", demo_store, tmp_path / "ema.pt", 60, ema=0.99)
+    assert checkpoint.ema["updates"] == 60
+    last, acting = checkpoint.model, checkpoint.build_model().state_dict()
+    moved = [name for name in last if last[name].is_floating_point() and not torch.equal(last[name], acting[name])]
+    assert moved, "the acting weights are the average, not the last weights"
+    for name, value in acting.items():
+        assert torch.equal(value, checkpoint.ema["weights"][name]), name
+
+    # the average itself: after the warm-up the decay caps at the setting
+    layer = torch.nn.Linear(1, 1, bias=False)
+    average = WeightAverage(layer, 0.5)
+    with torch.no_grad():
+        layer.weight.fill_(0.0)
+    average.weights["weight"].fill_(1.0)
+    average.updates = 100
+    average.update(layer)
+    assert average.weights["weight"].item() == 0.5
+    for wrong in (1.5, -0.1, "0.9"):
+        with pytest.raises(ValueError, match="decay"):
+            WeightAverage(layer, wrong)
+
+
+def test_a_checkpoint_from_before_the_ema_setting_acts_with_its_last_weights(demo_store, tmp_path):
+    path = tmp_path / "old.pt"
+    small_run("bc", demo_store, path, 20)
+    old = Checkpoint.load(path)
+    del old.config["ema"]
+    old.save(path)
+    loaded = Checkpoint.load(path)
+    assert loaded.config["ema"] == 0.0 and loaded.ema == {}
+    for name, value in loaded.build_model().state_dict().items():
+        assert torch.equal(value, old.model[name]), name
+    assert small_run("bc", demo_store, path, 40).step == 40
+    with pytest.raises(ValueError, match="different training run"):
+        small_run("bc", demo_store, path, 60, ema=0.999)
