@@ -72,6 +72,10 @@ def train_command(
 
             def advance(step: int, total: int, loss: float) -> None:
                 progress.update(bar, completed=step, total=total, loss=loss)
+                # a log file (nohup, a batch job) gets no live bar: one line per checkpoint
+                if not console.is_terminal and (step % checkpoint_every == 0 or step == total):
+                    elapsed = progress.tasks[0].elapsed or 0.0
+                    console.print(f"step {step}/{total}  loss {loss:.4f}  {elapsed / 60:.1f} min")
 
             checkpoint = train(
                 method, cls.__name__, out, demos=demos, cameras=tuple(names), depth=depth, privileged=privileged,

@@ -129,10 +129,12 @@ def test_a_checkpoint_in_evaluate_and_bigym_eval(demo_store, tmp_path):
 def test_bigym_train_command(demo_store, tmp_path):
     out = tmp_path / "cli.pt"
     args = ["train", "bc", "reach_target_multi_modal", "--store", str(demo_store.url), "--demos", "4", "--steps", "60",
-            "--set", "hidden=32", "--set", "chunk=8", "--out", str(out)]  # fmt: skip
+            "--set", "hidden=32", "--set", "chunk=8", "--out", str(out), "--checkpoint-every", "20"]  # fmt: skip
     result = CliRunner().invoke(app, args)
     assert result.exit_code == 0, result.output
     assert "evaluate it: bigym eval ReachTargetMultiModal" in result.output
+    logged = [line.split()[1] for line in result.output.splitlines() if line.startswith("step ")]
+    assert logged == ["20/60", "40/60", "60/60"], "not a terminal: one line per checkpoint"
     assert Checkpoint.load(out).config["hidden"] == 32
     for bad, message in [
         (["train", "gpt", "reach_target_multi_modal"], "unknown method"),
