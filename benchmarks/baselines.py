@@ -6,17 +6,20 @@ task it trains on 50 demos (``bigym train``), evaluates the checkpoint on the of
 seeds (``bigym eval``) and writes ``<out>/<method>-<Task>.json`` (the evaluation record and
 how it was trained). Checkpoints go to ``--work`` (default ``$BIGYM_HOME/baselines``); a
 pair whose record exists is skipped and an interrupted training resumes, so the command can
-be stopped and started again. It ends by printing the Markdown table of all records in
-``<out>``, with how chunks past a demo's end were trained (masked, the default, or held
-with ``--hold-end``, whose records are named ``*-held.json``) and which weights acted (the
-last, or with ``--ema 0.999`` a moving average of them, records ``*-ema.json``).
-``--all-tasks`` runs every task the store has demos for (on a GPU machine, set ``--steps``
-higher and ``--workers`` to the CPU count).
+be stopped and started again. ``--set name=value`` (repeatable) changes a training setting
+of every method run, as ``bigym train --set`` does; its records are named after the settings
+given (``act-DrawerTopOpen-dropout=0-ema=0.json``), so runs of other settings sit beside the
+defaults'. It ends by printing the Markdown table of all records in ``<out>``, whose
+"settings" column lists where a record's training differed from its method's defaults of
+today (records from before a setting existed are read as they ran: see
+``bigym.baselines.checkpoint.LEGACY_SETTINGS``). ``--all-tasks`` runs every task the store
+has demos for (on a GPU machine, set ``--steps`` higher and ``--workers`` to the CPU count).
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import json
 import os
 import platform
@@ -26,6 +29,9 @@ from pathlib import Path
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 from bigym.baselines import checkpoint_factory, train  # noqa: E402
+from bigym.baselines.checkpoint import with_legacy_settings  # noqa: E402
+from bigym.baselines.methods import make_config  # noqa: E402
+from bigym.cli.train import parse_settings  # noqa: E402
 from bigym.demonstrations import DemoStore  # noqa: E402
 from bigym.evaluation import EvaluationResult, evaluate  # noqa: E402
 from bigym.observations import ObservationConfig  # noqa: E402
@@ -42,11 +48,17 @@ TASKS = (
 STEPS = {"bc": 20_000, "act": 10_000, "dp": 10_000}
 
 
+def record_name(method: str, task: str, cameras: tuple[str, ...], settings: dict) -> str:
+    """``act-DrawerTopOpen``, ``act-pixels-DrawerTopClose``, ``act-DrawerTopOpen-dropout=0-ema=0``."""
+    given = "".join(f"-{name}={json.dumps(value)}" for name, value in sorted(settings.items()))
+    return f"{method}{'-pixels' if cameras else ''}-{task}{given}"
+
+
 def run(
     method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int,
-    device: str, hold_end: bool = False, ema: float = 0.0,
+    device: str, settings: dict,
 ):  # fmt: skip
-    name = f"{method}{'-pixels' if cameras else ''}-{task}{'-held' if hold_end else ''}{'-ema' if ema else ''}"
+    name = record_name(method, task, cameras, settings)
     record = out / f"{name}.json"
     if record.exists():
         return
@@ -54,7 +66,7 @@ def run(
     started = time.perf_counter()
     checkpoint = train(
         method, task, checkpoint_path, demos=50, cameras=cameras, privileged=not cameras, store=store,
-        settings={"steps": steps, "hold_end": hold_end, "ema": ema}, checkpoint_every=1000, workers=workers,
+        settings={**settings, "steps": steps}, checkpoint_every=1000, workers=workers,
         device=device,
     )  # fmt: skip
     config = ObservationConfig.from_dict(checkpoint.observation_config)
@@ -89,22 +101,31 @@ def machine(device: str) -> str:
     return where
 
 
-def chunk_end(config: dict) -> str:
-    """How the chunks that reach past a demo's end were trained (records from before the
-    setting existed were masked)."""
-    return "held" if config.get("hold_end", False) else "masked"
+def changed_settings(method: str, config: dict) -> dict:
+    """The settings of a record's training that differ from the method's defaults of today
+    (the step count aside, which has its own column)."""
+    config = with_legacy_settings(config)
+    defaults = json.loads(json.dumps(dataclasses.asdict(make_config(method))))  # tuples as the record's lists
+    return {name: value for name, value in config.items() if name != "steps" and defaults.get(name) != value}
 
 
-def acting_weights(config: dict) -> str:
-    """Which weights acted: the last ones, or the moving average (records from before the
-    setting existed acted with the last)."""
-    return f"EMA {config['ema']:g}" if config.get("ema", 0.0) else "last"
+def differences(method: str, config: dict) -> str:
+    """The table's settings column: ``defaults``, or what differed (``dropout 0, ema 0``)."""
+    changed = changed_settings(method, config)
+    return ", ".join(f"{name} {json.dumps(value)}" for name, value in changed.items()) or "defaults"
+
+
+def name_for_today(data: dict) -> str:
+    """The name a record would get if run again today with ``--set`` for what it changed:
+    a record named otherwise would make the benchmark skip a run it never did."""
+    cameras = ("cameras",) if "pixels" in data["evaluation"]["fingerprint"]["track"] else ()
+    return record_name(data["method"], data["task"], cameras, changed_settings(data["method"], data["training"]["config"]))
 
 
 def table(out: Path) -> str:
     lines = [
-        "| task | method | observations | chunk end | weights | success | 95% interval | demos | steps | training |",
-        "|---|---|---|---|---|---:|---:|---:|---:|---:|",
+        "| task | method | observations | settings | success | 95% interval | demos | steps | training |",
+        "|---|---|---|---|---:|---:|---:|---:|---:|",
     ]
     for path in sorted(out.glob("*.json")):
         data = json.loads(path.read_text())
@@ -114,8 +135,7 @@ def table(out: Path) -> str:
         official = "" if result.official else " (unofficial)"
         track = result.fingerprint["track"]
         lines.append(
-            f"| {data['task']} | {data['method']} | {track} | {chunk_end(training['config'])} "
-            f"| {acting_weights(training['config'])} "
+            f"| {data['task']} | {data['method']} | {track} | {differences(data['method'], training['config'])} "
             f"| {s.successes}/{s.episodes}{official} "
             f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
             f"| {training['seconds'] / 60:.0f} min |"
@@ -130,8 +150,8 @@ def main() -> None:
     parser.add_argument("--task", action="append", help=f"default: {', '.join(TASKS)}")
     parser.add_argument("--all-tasks", action="store_true", help="every task the store has demos for")
     parser.add_argument("--pixels", action="append", default=[], help="also train ACT from the 3 cameras on this task")
-    parser.add_argument("--hold-end", action="store_true", help="train chunks past a demo's end to hold its last action")
-    parser.add_argument("--ema", type=float, default=0.0, help="act with a moving average of the weights, this decay")
+    parser.add_argument("--set", action="append", default=[], metavar="NAME=VALUE",
+                        help="a training setting of every method run (repeatable), as bigym train --set")  # fmt: skip
     parser.add_argument("--steps", type=int, help="training steps for every method (default: per method)")
     parser.add_argument("--work", type=Path, default=None, help="checkpoints (default: $BIGYM_HOME/baselines)")
     parser.add_argument("--out", type=Path, default=Path("results/baselines"))
@@ -139,6 +159,12 @@ def main() -> None:
     parser.add_argument("--device", default="auto", help="training device: auto (CUDA when there is a GPU), cpu, cuda")
     parser.add_argument("--table-only", action="store_true", help="print the table of the existing records")
     args = parser.parse_args()
+    try:
+        settings = parse_settings(args.set)
+        for method in args.method or ["bc", "act", "dp"]:
+            make_config(method, settings)
+    except (ValueError, TypeError) as error:
+        parser.error(str(error))
     if not args.table_only:
         home = Path(os.environ.get("BIGYM_HOME", Path.home() / ".cache" / "bigym"))
         work = args.work or home / "baselines"
@@ -149,12 +175,11 @@ def main() -> None:
         for task in tasks:
             for method in args.method or ["bc", "act", "dp"]:
                 steps = args.steps or STEPS[method]
-                run(method, task, store, work, args.out, steps, (), args.workers, args.device, args.hold_end,
-                    args.ema)
+                run(method, task, store, work, args.out, steps, (), args.workers, args.device, settings)
         for task in args.pixels:
             cameras = ("head", "left_wrist", "right_wrist")
             steps = args.steps or STEPS["act"]
-            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, args.hold_end, args.ema)
+            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, settings)
     print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
     print(table(args.out))
 

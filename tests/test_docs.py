@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -93,14 +94,19 @@ def test_readme_main_job_runs_as_written(tmp_path):
     assert any(Path("videos").glob("*.mp4")), "the command writes videos of its first episodes"
 
 
-def _benchmark_table(script: str, records: str) -> str:
-    """The Markdown table a benchmark script prints from its committed records."""
+def _benchmark(script: str):
+    """A script of benchmarks/ as a module."""
     import importlib.util
 
     spec = importlib.util.spec_from_file_location(script, REPO / "benchmarks" / f"{script}.py")
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
-    return module.table(REPO / "results" / records)
+    return module
+
+
+def _benchmark_table(script: str, records: str) -> str:
+    """The Markdown table a benchmark script prints from its committed records."""
+    return _benchmark(script).table(REPO / "results" / records)
 
 
 def test_readme_expert_table_is_the_committed_records():
@@ -116,3 +122,14 @@ def test_readme_baseline_table_is_the_committed_records():
     table = _benchmark_table("baselines", "baselines")
     assert table.count("\n") >= 3, "premise: the records are there"
     assert table in (REPO / "README.md").read_text(), "README baseline table is stale: rerun the benchmark"
+
+
+def test_baseline_records_are_named_after_what_they_changed():
+    """A record's file name lists the settings its run changed from today's defaults, so
+    that changing a default does not leave a record that makes the benchmark skip a run."""
+    module = _benchmark("baselines")
+    records = sorted((REPO / "results" / "baselines").glob("*.json"))
+    assert len(records) >= 3, "premise: the records are there"
+    for path in records:
+        expected = module.name_for_today(json.loads(path.read_text())) + ".json"
+        assert path.name == expected, f"{path.name} ran other settings: it should be named {expected}"

@@ -82,8 +82,16 @@ class Checkpoint:
             raise ValueError(f"{path} is not a bigym baseline checkpoint")
         if data.get("format_version", 0) > FORMAT_VERSION:
             raise ValueError(f"{path} was written by a newer bigym (format {data['format_version']})")
-        # settings added since: the checkpoints written before trained without them
-        data["config"].setdefault("hold_end", False)  # chunk ends masked
-        data["config"].setdefault("ema", 0.0)  # the last weights act
+        data["config"] = with_legacy_settings(data["config"])
         fields = {f.name for f in dataclasses.fields(cls)}
         return cls(**{k: v for k, v in data.items() if k in fields})
+
+
+#: Settings added after the first checkpoints, with what those checkpoints trained with (not
+#: today's default, which may differ): chunk ends masked, the last weights acting.
+LEGACY_SETTINGS = {"hold_end": False, "ema": 0.0}
+
+
+def with_legacy_settings(config: dict[str, Any]) -> dict[str, Any]:
+    """A saved training config with the settings it predates filled in as it ran."""
+    return {**LEGACY_SETTINGS, **config}
