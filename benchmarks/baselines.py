@@ -19,7 +19,6 @@ has demos for (on a GPU machine, set ``--steps`` higher and ``--workers`` to the
 from __future__ import annotations
 
 import argparse
-import dataclasses
 import json
 import os
 import platform
@@ -30,7 +29,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 from bigym.baselines import checkpoint_factory, train  # noqa: E402
 from bigym.baselines.checkpoint import with_legacy_settings  # noqa: E402
-from bigym.baselines.methods import make_config  # noqa: E402
+from bigym.baselines.methods import config_dict, make_config  # noqa: E402
 from bigym.cli.train import parse_settings  # noqa: E402
 from bigym.demonstrations import DemoStore  # noqa: E402
 from bigym.evaluation import EvaluationResult, evaluate  # noqa: E402
@@ -105,7 +104,7 @@ def changed_settings(method: str, config: dict) -> dict:
     """The settings of a record's training that differ from the method's defaults of today
     (the step count aside, which has its own column)."""
     config = with_legacy_settings(config)
-    defaults = json.loads(json.dumps(dataclasses.asdict(make_config(method))))  # tuples as the record's lists
+    defaults = config_dict(make_config(method))
     return {name: value for name, value in config.items() if name != "steps" and defaults.get(name) != value}
 
 
@@ -159,9 +158,10 @@ def main() -> None:
     parser.add_argument("--device", default="auto", help="training device: auto (CUDA when there is a GPU), cpu, cuda")
     parser.add_argument("--table-only", action="store_true", help="print the table of the existing records")
     args = parser.parse_args()
+    methods = args.method or list(STEPS)
     try:
         settings = parse_settings(args.set)
-        for method in args.method or ["bc", "act", "dp"]:
+        for method in set(methods) | ({"act"} if args.pixels else set()):
             make_config(method, settings)
     except (ValueError, TypeError) as error:
         parser.error(str(error))
@@ -173,7 +173,7 @@ def main() -> None:
         if args.all_tasks:
             tasks = sorted({entry.task for entry in store.entries()})
         for task in tasks:
-            for method in args.method or ["bc", "act", "dp"]:
+            for method in methods:
                 steps = args.steps or STEPS[method]
                 run(method, task, store, work, args.out, steps, (), args.workers, args.device, settings)
         for task in args.pixels:

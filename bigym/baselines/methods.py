@@ -40,6 +40,11 @@ def make_config(method: str, overrides: dict[str, Any] | None = None) -> TrainCo
     return config_class(**values)
 
 
+def config_dict(config: TrainConfig) -> dict[str, Any]:
+    """A config as checkpoints and records store it (JSON-like: tuples as lists)."""
+    return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(config).items()}
+
+
 def make_model(method: str, config: TrainConfig, state_dim: int, action_dim: int, image_shapes: dict):
     _, model_class = method_classes(method)
     return model_class(config, state_dim, action_dim, image_shapes)

@@ -20,7 +20,7 @@ from bigym.action_modes import JointPositionActionMode
 from bigym.baselines.checkpoint import Checkpoint
 from bigym.baselines.data import ChunkDataset
 from bigym.baselines.ema import WeightAverage
-from bigym.baselines.methods import make_config, make_model
+from bigym.baselines.methods import config_dict, make_config, make_model
 from bigym.observations import CameraConfig, ObservationConfig, is_image_key
 
 LOSS_EVERY = 50  # steps between the losses a checkpoint keeps
@@ -103,7 +103,7 @@ def train(
     checkpoint = Checkpoint(
         method=method,
         task=task,
-        config=_config_dict(config),
+        config=config_dict(config),
         action_mode=metadata.action_mode,
         frequency=float(metadata.frequency),
         observation_config=observations.to_dict(),
@@ -184,12 +184,6 @@ def _write(checkpoint, model, optimizer, average, generator, step, started, out)
     checkpoint.ema = average.state_dict() if average is not None else {}
     checkpoint.rng = {"batches": generator.get_state(), "torch": torch.get_rng_state()}
     checkpoint.save(out)
-
-
-def _config_dict(config) -> dict:
-    import dataclasses
-
-    return {k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(config).items()}
 
 
 def _check_resumable(previous: Checkpoint, new: Checkpoint, path: Path) -> None:
