@@ -121,6 +121,12 @@ def name_for_today(data: dict) -> str:
     return record_name(data["method"], data["task"], cameras, changed_settings(data["method"], data["training"]["config"]))
 
 
+def on_gpu(machine: str) -> str:
+    """`` on NVIDIA H100 80GB HBM3`` for a record trained on a GPU (see :func:`machine`), else ``""``."""
+    parts = machine.split(", ")
+    return f" on {parts[2]}" if len(parts) > 2 else ""
+
+
 def table(out: Path) -> str:
     lines = [
         "| task | method | observations | settings | success | 95% interval | demos | steps | training |",
@@ -137,7 +143,7 @@ def table(out: Path) -> str:
             f"| {data['task']} | {data['method']} | {track} | {differences(data['method'], training['config'])} "
             f"| {s.successes}/{s.episodes}{official} "
             f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
-            f"| {training['seconds'] / 60:.0f} min |"
+            f"| {training['seconds'] / 60:.0f} min{on_gpu(data.get('machine', ''))} |"
         )
     return "\n".join(lines)
 
@@ -162,7 +168,8 @@ def main() -> None:
     try:
         settings = parse_settings(args.set)
         for method in set(methods) | ({"act"} if args.pixels else set()):
-            make_config(method, settings)
+            config = config_dict(make_config(method, settings))
+            settings = {name: config[name] for name in settings}  # as stored: ema=0 is 0.0
     except (ValueError, TypeError) as error:
         parser.error(str(error))
     if not args.table_only:

@@ -5,6 +5,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import torch
+from torch import nn
 
 
 @dataclass
@@ -24,6 +25,16 @@ class TrainConfig:
     # Decay of a moving average of the weights (bigym.baselines.ema) that then acts instead
     # of the last weights; 0 keeps none. 0.999 averages over about the last 1,000 steps.
     ema: float = 0.0
+
+
+class ChunkModel(nn.Module):
+    """What a method's model offers training and acting: ``loss(batch, generator)`` ->
+    (loss, logged figures), ``predict(batch, generator)`` -> a normalised chunk per sample,
+    and ``start_episode(generator)``, the draws that stay fixed for an episode, added to
+    every batch of it (none here; ACT's sampled latent)."""
+
+    def start_episode(self, generator: torch.Generator) -> dict[str, torch.Tensor]:
+        return {}
 
 
 def masked_l1(predicted: torch.Tensor, target: torch.Tensor, pad: torch.Tensor) -> torch.Tensor:

@@ -34,10 +34,27 @@ def make_config(method: str, overrides: dict[str, Any] | None = None) -> TrainCo
     unknown = sorted(set(overrides or {}) - names)
     if unknown:
         raise ValueError(f"{method} has no setting {', '.join(unknown)}; its settings: {', '.join(sorted(names))}")
-    values = dict(overrides or {})
-    if "channels" in values:
-        values["channels"] = tuple(values["channels"])
+    types = {f.name: f.type for f in dataclasses.fields(config_class)}
+    values = {name: _typed(name, value, types[name]) for name, value in (overrides or {}).items()}
     return config_class(**values)
+
+
+def _typed(name: str, value: Any, kind: str) -> Any:
+    """A setting as its field's type (``ema=0`` is 0.0), or an error that names the type: a
+    string or a bool where a number belongs would otherwise train a run nobody asked for."""
+    number = isinstance(value, (int, float)) and not isinstance(value, bool)
+    if kind == "float" and number:
+        return float(value)
+    if kind == "int" and number and float(value).is_integer():
+        return int(value)
+    if kind == "bool" and isinstance(value, bool):
+        return value
+    if kind.startswith("tuple[int") and isinstance(value, (list, tuple)) and all(
+        isinstance(v, int) and not isinstance(v, bool) for v in value
+    ):
+        return tuple(value)
+    wanted = {"float": "a number", "int": "a whole number", "bool": "true or false"}.get(kind, "a list of whole numbers")
+    raise ValueError(f"setting {name} takes {wanted}, got {value!r}")
 
 
 def config_dict(config: TrainConfig) -> dict[str, Any]:

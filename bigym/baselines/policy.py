@@ -41,13 +41,14 @@ class ChunkPolicy:
 
     def reset(self, seed: int | None) -> None:
         self._generator.manual_seed(0 if seed is None else int(seed))
+        self._episode = self.model.start_episode(self._generator)
         self._chunks: deque[tuple[int, np.ndarray]] = deque()
         self._t = 0
 
     @torch.no_grad()
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         state = self.normalizer.states(state_vector(obs, self.checkpoint.state_keys))
-        batch = {"state": torch.from_numpy(state)[None]}
+        batch = {"state": torch.from_numpy(state)[None], **self._episode}
         for key in self.image_keys:
             batch[key] = torch.from_numpy(image_tensor({key: obs[key]}, key))[None]
         # within the demos' range of every entry (the normalised [-1, 1]): a model that

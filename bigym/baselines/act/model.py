@@ -1,6 +1,7 @@
 """ACT's conditional VAE: a style variable z summarises the demonstrated chunk (training
 only), a transformer decodes the chunk from z, the state and the camera features. At
-run time z is the prior's mean (zero), so the policy is deterministic."""
+run time z is the prior's mean (zero), so the policy is deterministic, or with
+``sample_latent`` one draw from the prior per episode."""
 
 from __future__ import annotations
 
@@ -8,7 +9,7 @@ import torch
 from torch import nn
 
 from bigym.baselines.act.config import ACTConfig
-from bigym.baselines.common import masked_l1
+from bigym.baselines.common import ChunkModel, masked_l1
 from bigym.baselines.vision import Cameras
 
 
@@ -19,7 +20,7 @@ def _encoder(config: ACTConfig, layers: int) -> nn.TransformerEncoder:
     return nn.TransformerEncoder(layer, layers, enable_nested_tensor=False)
 
 
-class ACTModel(nn.Module):
+class ACTModel(ChunkModel):
     def __init__(self, config: ACTConfig, state_dim: int, action_dim: int, image_shapes: dict) -> None:
         super().__init__()
         d = config.hidden
@@ -52,8 +53,17 @@ class ACTModel(nn.Module):
         queries = self.queries.expand(len(z), -1, -1)
         return self.head(self.decoder(queries, memory))
 
+    def start_episode(self, generator: torch.Generator) -> dict[str, torch.Tensor]:
+        """What stays fixed for an episode: the sampled z (``sample_latent``), else nothing."""
+        if not self.config.sample_latent:
+            return {}
+        return {"latent": torch.randn(1, self.config.latent, generator=generator)}
+
     def predict(self, batch: dict[str, torch.Tensor], generator: torch.Generator | None = None) -> torch.Tensor:
-        z = torch.zeros(len(batch["state"]), self.config.latent, device=batch["state"].device)
+        """The chunk for ``batch["latent"]`` (from :meth:`start_episode`) or for z = 0."""
+        n, device = len(batch["state"]), batch["state"].device
+        latent = batch.get("latent")
+        z = torch.zeros(n, self.config.latent, device=device) if latent is None else latent.to(device).expand(n, -1)
         return self._decode(batch, z)
 
     def loss(self, batch: dict[str, torch.Tensor], generator: torch.Generator) -> tuple[torch.Tensor, dict]:

@@ -6,11 +6,11 @@ import torch
 from torch import nn
 
 from bigym.baselines.bc.config import BCConfig
-from bigym.baselines.common import masked_l1
+from bigym.baselines.common import ChunkModel, masked_l1
 from bigym.baselines.vision import Cameras
 
 
-class BCModel(nn.Module):
+class BCModel(ChunkModel):
     def __init__(self, config: BCConfig, state_dim: int, action_dim: int, image_shapes: dict) -> None:
         super().__init__()
         self.config, self.action_dim = config, action_dim

@@ -9,6 +9,7 @@ import torch
 from torch import nn
 from torch.nn import functional as F
 
+from bigym.baselines.common import ChunkModel
 from bigym.baselines.dp.config import DPConfig
 from bigym.baselines.vision import Cameras
 
@@ -68,7 +69,7 @@ class NoiseNet(nn.Module):
         return self.out(x)
 
 
-class DPModel(nn.Module):
+class DPModel(ChunkModel):
     def __init__(self, config: DPConfig, state_dim: int, action_dim: int, image_shapes: dict) -> None:
         super().__init__()
         self.config, self.action_dim = config, action_dim
