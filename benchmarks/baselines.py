@@ -78,6 +78,7 @@ def run(
             "steps": checkpoint.step,
             "seconds": checkpoint.train_seconds,
             "final_loss": checkpoint.losses[-1][1],
+            "final_loss_terms": checkpoint.loss_terms[-1] if checkpoint.loss_terms else {},
             "config": checkpoint.config,
         },
         "machine": machine(device),

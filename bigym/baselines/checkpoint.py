@@ -37,6 +37,9 @@ class Checkpoint:
     seed: int
     step: int = 0
     losses: list[list[float]] = field(default_factory=list)  # [step, loss] pairs
+    # the loss's parts (ACT: l1 and kl; DP: mse), averaged over the same steps as each losses
+    # entry: ACT's kl shows whether its latent carries anything (README, "Baselines")
+    loss_terms: list[dict[str, float]] = field(default_factory=list)
     train_seconds: float = 0.0
     bigym_version: str = ""
     model: dict = field(default_factory=dict)

@@ -132,16 +132,17 @@ def train(
             average.load_state_dict(previous.ema)
         generator.set_state(previous.rng["batches"])
         torch.set_rng_state(previous.rng["torch"])
-        checkpoint.step, checkpoint.losses, checkpoint.train_seconds = (
+        checkpoint.step, checkpoint.losses, checkpoint.loss_terms, checkpoint.train_seconds = (
             previous.step,
             previous.losses,
+            previous.loss_terms,
             previous.train_seconds,
         )
     model.train()
-    started, recent = time.perf_counter(), []
+    started, recent, recent_terms = time.perf_counter(), [], []
     for step in range(checkpoint.step, config.steps):
         batch = {k: v.to(device) for k, v in dataset.batch(config.batch_size, generator).items()}
-        loss, _ = model.loss(batch, generator)
+        loss, terms = model.loss(batch, generator)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 10.0)
@@ -149,10 +150,12 @@ def train(
         if average is not None:
             average.update(model)
         recent.append(loss.item())
+        recent_terms.append(terms)
         done = step + 1
         if done % LOSS_EVERY == 0 or done == config.steps:
             checkpoint.losses.append([done, sum(recent) / len(recent)])
-            recent = []
+            checkpoint.loss_terms.append({k: sum(t[k] for t in recent_terms) / len(recent_terms) for k in terms})
+            recent, recent_terms = [], []
         if progress is not None:
             progress(done, config.steps, loss.item())
         if done % checkpoint_every == 0 or done == config.steps:

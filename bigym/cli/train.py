@@ -91,8 +91,10 @@ def train_command(
             _fail(str(error))
         raise
     final = checkpoint.losses[-1][1] if checkpoint.losses else float("nan")
+    terms = checkpoint.loss_terms[-1] if checkpoint.loss_terms else {}
+    parts = f" ({', '.join(f'{name} {value:.4g}' for name, value in terms.items())})" if len(terms) > 1 else ""
     console.print(
         f"{out}: {checkpoint.step} steps on {len(checkpoint.demos)} demos, {checkpoint.train_seconds / 60:.1f} min, "
-        f"last loss {final:.4f}"
+        f"last loss {final:.4f}{parts}"
     )
     console.print(f"evaluate it: bigym eval {cls.__name__} --policy {out}")

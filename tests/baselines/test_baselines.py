@@ -38,6 +38,13 @@ def test_training_lowers_the_loss_and_the_checkpoint_acts(method, demo_store, tm
     losses = [loss for _, loss in checkpoint.losses]
     assert checkpoint.step == 300 and len(losses) == 6
     assert losses[-1] < 0.7 * losses[0], losses
+    # the loss's parts, averaged over the same steps: ACT's is l1 + kl_weight * kl
+    assert len(checkpoint.loss_terms) == len(losses)
+    assert set(checkpoint.loss_terms[-1]) == {"bc": {"l1"}, "act": {"l1", "kl"}, "dp": {"mse"}}[method]
+    kl_weight = checkpoint.config.get("kl_weight", 0.0)
+    for (_, loss), terms in zip(checkpoint.losses, checkpoint.loss_terms):
+        parts = terms.get("l1", 0.0) + kl_weight * terms.get("kl", 0.0) + terms.get("mse", 0.0)
+        assert loss == pytest.approx(parts, rel=1e-5)
     assert checkpoint.task == TASK and len(checkpoint.demos) == 4
     assert "target_position" in checkpoint.state_keys
 
@@ -63,6 +70,8 @@ def test_resuming_gives_the_weights_of_an_uninterrupted_run(demo_store, tmp_path
         small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 60, ema=ema)
         resumed = small_run(method, demo_store, tmp_path / f"{method}-resumed.pt", 120, checkpoint_every=60, ema=ema)
         assert resumed.step == 120
+        # the first part's log is kept: entries at 50 and 60, then the resumed part's 100 and 120
+        assert [step for step, _ in resumed.losses] == [50, 60, 100, 120] and len(resumed.loss_terms) == 4
         for name, tensor in straight.model.items():
             assert torch.equal(tensor, resumed.model[name]), (method, name)
         assert bool(resumed.ema) == (ema > 0) and straight.ema.keys() == resumed.ema.keys()
@@ -158,6 +167,7 @@ def test_bigym_train_command(demo_store, tmp_path):
     for bad, message in [
         (["train", "gpt", "reach_target_multi_modal"], "unknown method"),
         (["train", "bc", "reach_target_multi_modal", "--set", "oops"], "name=value"),
+        (["train", "bc", "reach_target_multi_modal", "--set", "hidden=wide"], "setting hidden takes a whole number"),
         (["train", "bc", "reach_target_multi_modal", "--cameras", "tail"], "unknown camera(s) tail"),
         (
             ["train", "bc", "reach_target_multi_modal", "--store", str(demo_store.url), "--device", "gpu7"],
