@@ -49,6 +49,7 @@ from bigym.demonstrations.metadata import (
     state_segments,
 )
 from bigym.observations import ObservationConfig
+from bigym.worker_lifetime import exit_with_parent
 
 # A replay at another rate than the recording follows it only approximately: the servo
 # targets change once per new control step instead of every recorded step, so the robot may
@@ -601,7 +602,9 @@ class ReplayPool:
     def __init__(self, workers: int = 2) -> None:
         self.workers = max(1, int(workers))
         context = multiprocessing.get_context("spawn")  # fork is unsafe with GL contexts and threads
-        self.executor = ProcessPoolExecutor(max_workers=self.workers, mp_context=context)
+        self.executor = ProcessPoolExecutor(
+            max_workers=self.workers, mp_context=context, initializer=exit_with_parent
+        )
 
     def warm_up(self) -> ReplayPool:
         """Start every worker and import bigym in it now."""

@@ -22,6 +22,7 @@ import gymnasium as gym
 import numpy as np
 
 from bigym.child_environment import child_environment
+from bigym.worker_lifetime import exit_with_parent
 from bigym.evaluation.policy import (
     PolicyFactory,
     check_portable,
@@ -260,6 +261,7 @@ def make_env(settings: Settings, render_mode: str | None = None):
 
 
 def _init_worker(*args) -> None:
+    exit_with_parent()
     # An initializer that raises breaks the pool with an unhelpful message: keep the error
     # and raise it from the first job instead.
     try:

@@ -27,6 +27,7 @@ import numpy as np
 from bigym.experts.incidents import IncidentWatch
 from bigym.experts.motion import HumanStyle
 from bigym.experts.numerics import numerics_pinned, pinned_environment, pinned_settings
+from bigym.worker_lifetime import exit_with_parent
 
 CONTROL_FREQUENCY = 500.0  # the recording rate of the benchmark's demos
 #: seconds recorded after the first success: a margin for replays at lower rates, which
@@ -320,7 +321,9 @@ def run_attempts(jobs: Iterable[tuple], workers: int, backend: str = "process") 
             yield [_job(job)]
         return
     context = multiprocessing.get_context("spawn")  # spawn: numpy loads again, with the pinned kernels
-    with pinned_environment(), ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+    with pinned_environment(), ProcessPoolExecutor(
+        max_workers=workers, mp_context=context, initializer=exit_with_parent
+    ) as pool:
         queue = iter(jobs)
         running: dict = {}
 

@@ -149,3 +149,47 @@ def test_random_policy_reset_repeats_its_actions():
         assert all(np.array_equal(a, b) for a, b in zip(first, [policy({}) for _ in range(3)]))
     finally:
         env.close()
+
+
+def test_workers_end_when_the_evaluating_process_is_killed(tmp_path):
+    """``timeout`` or ``kill`` stops only the evaluating process: its pool workers must not
+    run on (or wait forever) without it."""
+    import os
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    script = tmp_path / "evaluating.py"
+    script.write_text(
+        "import multiprocessing\n"
+        "from bigym.evaluation import evaluate\n"
+        "def progress(record):\n"
+        "    print('WORKERS', *[p.pid for p in multiprocessing.active_children()], flush=True)\n"
+        "if __name__ == '__main__':\n"
+        f"    evaluate('bigym.policies:RandomPolicy', {TASK!r}, episodes=100, workers=2, progress=progress)\n"
+    )
+    parent = subprocess.Popen([sys.executable, str(script)], stdout=subprocess.PIPE, text=True)
+    try:
+        line = parent.stdout.readline()
+        assert line.startswith("WORKERS"), f"premise: the evaluation reports its workers ({line!r})"
+        workers = [int(pid) for pid in line.split()[1:]]
+        assert len(workers) == 2
+    finally:
+        parent.send_signal(signal.SIGKILL)
+        parent.wait()
+
+    def running(pid: int) -> bool:
+        try:
+            with open(f"/proc/{pid}/stat") as stat:
+                return stat.read().rsplit(")", 1)[1].split()[0] != "Z"  # an unreaped zombie has ended
+        except FileNotFoundError:
+            return False
+
+    deadline = time.monotonic() + 30
+    while any(running(pid) for pid in workers) and time.monotonic() < deadline:
+        time.sleep(0.2)
+    left = [pid for pid in workers if running(pid)]
+    for pid in left:
+        os.kill(pid, signal.SIGKILL)
+    assert not left, f"workers {left} outlived the killed evaluation"
