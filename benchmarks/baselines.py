@@ -104,7 +104,7 @@ def machine(device: str) -> str:
 def changed_settings(method: str, config: dict) -> dict:
     """The settings of a record's training that differ from the method's defaults of today
     (the step count aside, which has its own column)."""
-    config = with_legacy_settings(config)
+    config = with_legacy_settings(method, config)
     defaults = config_dict(make_config(method))
     return {name: value for name, value in config.items() if name != "steps" and defaults.get(name) != value}
 

@@ -13,7 +13,7 @@ from typing import Any
 import torch
 
 from bigym.baselines.data import Normalizer
-from bigym.baselines.methods import make_config, make_model
+from bigym.baselines.methods import make_config, make_model, method_classes
 
 FORMAT = "bigym-baseline"
 FORMAT_VERSION = 1
@@ -46,6 +46,7 @@ class Checkpoint:
     optimizer: dict = field(default_factory=dict)
     rng: dict = field(default_factory=dict)
     ema: dict = field(default_factory=dict)  # the weight average's state when config["ema"] > 0
+    demo_modes: list[int] = field(default_factory=list)  # each training demo's mode (config "modes")
 
     @property
     def acting_weights(self) -> dict:
@@ -85,16 +86,18 @@ class Checkpoint:
             raise ValueError(f"{path} is not a bigym baseline checkpoint")
         if data.get("format_version", 0) > FORMAT_VERSION:
             raise ValueError(f"{path} was written by a newer bigym (format {data['format_version']})")
-        data["config"] = with_legacy_settings(data["config"])
+        data["config"] = with_legacy_settings(data["method"], data["config"])
         fields = {f.name for f in dataclasses.fields(cls)}
         return cls(**{k: v for k, v in data.items() if k in fields})
 
 
 #: Settings added after the first checkpoints, with what those checkpoints trained with (not
-#: today's default, which may differ): chunk ends masked, the last weights acting.
-LEGACY_SETTINGS = {"hold_end": False, "ema": 0.0}
+#: today's default, which may differ): chunk ends masked, the last weights acting, no state noise.
+LEGACY_SETTINGS = {"hold_end": False, "ema": 0.0, "state_noise": 0.0, "modes": 0}
 
 
-def with_legacy_settings(config: dict[str, Any]) -> dict[str, Any]:
-    """A saved training config with the settings it predates filled in as it ran."""
-    return {**LEGACY_SETTINGS, **config}
+def with_legacy_settings(method: str, config: dict[str, Any]) -> dict[str, Any]:
+    """A saved training config with the settings it predates filled in as it ran (those
+    its method has: ``modes`` is ACT's alone)."""
+    names = {f.name for f in dataclasses.fields(method_classes(method)[0])}
+    return {**{k: v for k, v in LEGACY_SETTINGS.items() if k in names}, **config}

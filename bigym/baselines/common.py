@@ -25,15 +25,20 @@ class TrainConfig:
     # Decay of a moving average of the weights (bigym.baselines.ema) that then acts instead
     # of the last weights; 0 keeps none. 0.999 averages over about the last 1,000 steps.
     ema: float = 0.0
+    # Standard deviation of Gaussian noise added to the normalised state of every training
+    # sample (in units of each entry's spread in the demos); 0 adds none. It asks the model
+    # to act alike on nearby states, what 50 demos over a region of targets cannot show.
+    state_noise: float = 0.0
 
 
 class ChunkModel(nn.Module):
     """What a method's model offers training and acting: ``loss(batch, generator)`` ->
     (loss, logged figures), ``predict(batch, generator)`` -> a normalised chunk per sample,
-    and ``start_episode(generator)``, the draws that stay fixed for an episode, added to
-    every batch of it (none here; ACT's sampled latent)."""
+    and ``start_episode(batch, generator)``, the draws that stay fixed for an episode given
+    its first observation's batch, added to every batch of it (none here; ACT's sampled
+    latent and demo mode)."""
 
-    def start_episode(self, generator: torch.Generator) -> dict[str, torch.Tensor]:
+    def start_episode(self, batch: dict[str, torch.Tensor], generator: torch.Generator) -> dict[str, torch.Tensor]:
         return {}
 
 

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 import torch
 
+from bigym.baselines.modes import demo_modes
 from bigym.observations import is_image_key
 
 BASE_TARGETS = "proprioception_floating_base_actions"
@@ -104,7 +105,7 @@ class ChunkDataset:
 
     def __init__(
         self, demos: list, chunk: int, image_keys: list[str], normalizer: Normalizer | None = None,
-        hold_end: bool = False,
+        hold_end: bool = False, modes: int = 0,
     ) -> None:  # fmt: skip
         if not demos:
             raise ValueError("no demos to train on")
@@ -135,6 +136,11 @@ class ChunkDataset:
         self.pad = torch.from_numpy(np.concatenate(pads))
         self.images = {k: np.concatenate(v) for k, v in images.items()}  # kept compact (uint8 RGB)
         self.chunk = chunk
+        # each demo's mode (bigym.baselines.modes), repeated for each of its samples
+        self.demo_modes = (
+            demo_modes([self.normalizer.actions(a) for a in actions], modes) if modes else np.zeros(0, dtype=np.int64)
+        )
+        self.modes = torch.from_numpy(np.repeat(self.demo_modes, [len(a) for a in actions])) if modes else None
 
     def __len__(self) -> int:
         return len(self.states)
@@ -147,9 +153,16 @@ class ChunkDataset:
     def action_dim(self) -> int:
         return self.chunks.shape[2]
 
-    def batch(self, size: int, generator: torch.Generator) -> dict[str, torch.Tensor]:
+    def batch(self, size: int, generator: torch.Generator, state_noise: float = 0.0) -> dict[str, torch.Tensor]:
+        """``size`` random samples; ``state_noise`` > 0 adds Gaussian noise of that spread
+        to their normalised states (drawn after the indices, so 0 leaves the draws as they were)."""
         index = torch.randint(len(self), (size,), generator=generator)
-        batch = {"state": self.states[index], "actions": self.chunks[index], "pad": self.pad[index]}
+        states = self.states[index]
+        if state_noise > 0:
+            states = states + state_noise * torch.randn(states.shape, generator=generator)
+        batch = {"state": states, "actions": self.chunks[index], "pad": self.pad[index]}
+        if self.modes is not None:
+            batch["mode"] = self.modes[index]
         for key in self.image_keys:
             batch[key] = torch.from_numpy(image_tensor({key: self.images[key][index.numpy()]}, key))
         return batch

@@ -36,6 +36,10 @@ def make_config(method: str, overrides: dict[str, Any] | None = None) -> TrainCo
         raise ValueError(f"{method} has no setting {', '.join(unknown)}; its settings: {', '.join(sorted(names))}")
     types = {f.name: f.type for f in dataclasses.fields(config_class)}
     values = {name: _typed(name, value, types[name]) for name, value in (overrides or {}).items()}
+    if values.get("modes", 0) < 0:
+        raise ValueError(f"setting modes takes 0 (none) or a number of modes, got {values['modes']!r}")
+    if values.get("state_noise", 0.0) < 0:
+        raise ValueError(f"setting state_noise is a standard deviation, 0 or more, got {values['state_noise']!r}")
     return config_class(**values)
 
 

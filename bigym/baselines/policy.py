@@ -41,16 +41,19 @@ class ChunkPolicy:
 
     def reset(self, seed: int | None) -> None:
         self._generator.manual_seed(0 if seed is None else int(seed))
-        self._episode = self.model.start_episode(self._generator)
+        self._episode: dict[str, torch.Tensor] | None = None  # drawn at the episode's first step
         self._chunks: deque[tuple[int, np.ndarray]] = deque()
         self._t = 0
 
     @torch.no_grad()
     def __call__(self, obs: dict[str, np.ndarray]) -> np.ndarray:
         state = self.normalizer.states(state_vector(obs, self.checkpoint.state_keys))
-        batch = {"state": torch.from_numpy(state)[None], **self._episode}
+        batch = {"state": torch.from_numpy(state)[None]}
         for key in self.image_keys:
             batch[key] = torch.from_numpy(image_tensor({key: obs[key]}, key))[None]
+        if self._episode is None:
+            self._episode = self.model.start_episode(batch, self._generator)
+        batch.update(self._episode)
         # within the demos' range of every entry (the normalised [-1, 1]): a model that
         # extrapolates cannot command a target, or a base position, no demo ever reached
         chunk = self.model.predict(batch, self._generator)[0].clamp(-1.0, 1.0).numpy()

@@ -94,7 +94,7 @@ def train(
     previous = Checkpoint.load(out) if out.exists() else None
     dataset = ChunkDataset(
         replayed, config.chunk, image_keys, previous.make_normalizer() if previous is not None else None,
-        hold_end=config.hold_end,
+        hold_end=config.hold_end, modes=getattr(config, "modes", 0),
     )  # fmt: skip
     image_shapes = {k: list(dataset.images[k].shape[1:]) for k in image_keys}
     for key in image_keys:
@@ -114,6 +114,7 @@ def train(
         base_indices=dataset.base_indices,
         normalizer=dataset.normalizer.to_dict(),
         demos=[d.uuid for d in replayed],
+        demo_modes=dataset.demo_modes.tolist(),
         seed=seed,
         bigym_version=bigym.__version__,
     )
@@ -141,7 +142,7 @@ def train(
     model.train()
     started, recent, recent_terms = time.perf_counter(), [], []
     for step in range(checkpoint.step, config.steps):
-        batch = {k: v.to(device) for k, v in dataset.batch(config.batch_size, generator).items()}
+        batch = {k: v.to(device) for k, v in dataset.batch(config.batch_size, generator, config.state_noise).items()}
         loss, terms = model.loss(batch, generator)
         optimizer.zero_grad(set_to_none=True)
         loss.backward()

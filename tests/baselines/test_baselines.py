@@ -308,11 +308,87 @@ def test_acts_latent_is_zero_or_one_draw_per_episode(demo_store, tmp_path, sampl
         assert np.array_equal(a, again), "the episode's seed fixes its draw"
         # z = 0 whatever the seed; a sampled z differs between episodes
         assert np.array_equal(a, b) != sample_latent
-        latents = [policy.model.start_episode(torch.Generator().manual_seed(s)) for s in (1, 1, 2)]
+        first = {"state": torch.zeros(1, policy.checkpoint.state_dim)}
+        latents = [policy.model.start_episode(first, torch.Generator().manual_seed(s)) for s in (1, 1, 2)]
         if sample_latent:
             assert torch.equal(latents[0]["latent"], latents[1]["latent"])
             assert not torch.equal(latents[0]["latent"], latents[2]["latent"])
         else:
             assert latents == [{}, {}, {}]
+    finally:
+        env.close()
+
+
+def test_state_noise_perturbs_the_training_states_only_when_asked():
+    from bigym.baselines.data import ChunkDataset
+
+    dataset = ChunkDataset([_Demo()], chunk=4, image_keys=[])
+    plain = dataset.batch(64, torch.Generator().manual_seed(3))
+    again = dataset.batch(64, torch.Generator().manual_seed(3), state_noise=0.0)
+    noisy = dataset.batch(64, torch.Generator().manual_seed(3), state_noise=0.5)
+    assert torch.equal(plain["state"], again["state"]), "no noise: the states as stored"
+    assert torch.equal(plain["actions"], noisy["actions"]), "the same samples are drawn"
+    offsets = (noisy["state"] - plain["state"]).flatten()
+    assert 0.35 < offsets.std().item() < 0.65 and abs(offsets.mean().item()) < 0.15
+    with pytest.raises(ValueError, match="state_noise"):
+        train("act", TASK, "unused.pt", demos=1, settings={"state_noise": -0.1})
+
+
+def _two_ways(count: int, seed: int) -> tuple[list[np.ndarray], list[int]]:
+    """Demos that use one of two arms (entries 0-1 or 2-3), at random lengths and reaches."""
+    rng = np.random.default_rng(seed)
+    demos, ways = [], []
+    for _ in range(count):
+        way, steps = int(rng.integers(2)), int(rng.integers(40, 120))
+        actions = rng.normal(0.0, 0.02, (steps, 4))
+        actions[:, 2 * way : 2 * way + 2] += np.linspace(0, rng.uniform(0.6, 1.0), steps)[:, None]
+        demos.append(actions)
+        ways.append(way)
+    return demos, ways
+
+
+def test_demo_modes_group_the_demos_by_the_way_they_do_the_task():
+    from bigym.baselines.modes import demo_modes
+
+    demos, ways = _two_ways(30, seed=1)
+    labels = demo_modes(demos, 2)
+    assert labels[0] == 0, "modes are numbered in the order the demos show them"
+    assert (labels == np.array(ways)).all() or (labels == 1 - np.array(ways)).all()
+    assert np.array_equal(labels, demo_modes(demos, 2)), "the same demos, the same labels"
+    assert len(set(demo_modes(demos, 3).tolist())) == 3
+    with pytest.raises(ValueError, match="at least as many demos"):
+        demo_modes(demos[:2], 3)
+    with pytest.raises(ValueError, match="setting modes"):
+        train("act", TASK, "unused.pt", demos=1, settings={"modes": -1})
+
+
+def test_act_with_modes_is_told_the_demos_mode_and_draws_one_per_episode(demo_store, tmp_path):
+    path = tmp_path / "modes.pt"
+    checkpoint = small_run("act", demo_store, path, 40, settings={"modes": 2})
+    assert sorted(set(checkpoint.demo_modes)) == [0, 1] and len(checkpoint.demo_modes) == 4
+    assert {"l1", "kl", "mode"} == set(checkpoint.loss_terms[-1])
+    env = ReachTargetMultiModal(
+        action_mode=JointPositionActionMode(floating_base=True, absolute=True), observation_config=STATE
+    )
+    try:
+        policy = load_policy(env, path)
+        obs, _ = env.reset(seed=3)
+        policy.reset(3)
+        policy(obs)
+        first = policy._episode["mode"]
+        state = {"state": torch.zeros(1, checkpoint.state_dim)}
+        chunks = [policy.model.predict({**state, "mode": torch.tensor([m])}) for m in (0, 1)]
+        assert not torch.equal(*chunks), "the mode reaches the decoder"
+        draws = []
+        for seed in range(12):
+            policy.reset(seed)
+            policy(obs)
+            draws.append(int(policy._episode["mode"]))
+            policy(obs)
+            assert int(policy._episode["mode"]) == draws[-1], "one mode for the whole episode"
+        policy.reset(3)
+        policy(obs)
+        assert torch.equal(policy._episode["mode"], first), "the episode's seed fixes its mode"
+        assert set(draws) == {0, 1}, "an untrained classifier draws either mode"
     finally:
         env.close()

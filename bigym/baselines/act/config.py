@@ -27,3 +27,8 @@ class ACTConfig(TrainConfig):
     # The weight average acts (bigym.baselines.ema): on the official seeds it gave DrawerTopOpen
     # 89% against 77% with the last weights, DrawerTopClose 91 against 84, the reach task 34 against 17.
     ema: float = 0.999
+    # Demo modes (bigym.baselines.modes): 0 keeps none; k > 1 groups the demos into k ways
+    # of doing the task (k-means on their trajectories: which hand, say), tells the decoder
+    # each sample's group and trains a classifier of the group from the state; acting draws
+    # one group per episode from the classifier's answer for the first state.
+    modes: int = 0
