@@ -153,16 +153,19 @@ class ChunkDataset:
     def action_dim(self) -> int:
         return self.chunks.shape[2]
 
-    def batch(self, size: int, generator: torch.Generator, state_noise: float = 0.0) -> dict[str, torch.Tensor]:
-        """``size`` random samples; ``state_noise`` > 0 adds Gaussian noise of that spread
-        to their normalised states (drawn after the indices, so 0 leaves the draws as they were)."""
-        index = torch.randint(len(self), (size,), generator=generator)
-        states = self.states[index]
-        if state_noise > 0:
-            states = states + state_noise * torch.randn(states.shape, generator=generator)
-        batch = {"state": states, "actions": self.chunks[index], "pad": self.pad[index]}
+    def samples(self, index: torch.Tensor) -> dict[str, torch.Tensor]:
+        """The samples at ``index``: state, action chunk, its padding, mode and images."""
+        batch = {"state": self.states[index], "actions": self.chunks[index], "pad": self.pad[index]}
         if self.modes is not None:
             batch["mode"] = self.modes[index]
         for key in self.image_keys:
             batch[key] = torch.from_numpy(image_tensor({key: self.images[key][index.numpy()]}, key))
+        return batch
+
+    def batch(self, size: int, generator: torch.Generator, state_noise: float = 0.0) -> dict[str, torch.Tensor]:
+        """``size`` random samples; ``state_noise`` > 0 adds Gaussian noise of that spread
+        to their normalised states (drawn after the indices, so 0 leaves the draws as they were)."""
+        batch = self.samples(torch.randint(len(self), (size,), generator=generator))
+        if state_noise > 0:
+            batch["state"] = batch["state"] + state_noise * torch.randn(batch["state"].shape, generator=generator)
         return batch

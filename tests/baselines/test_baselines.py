@@ -392,3 +392,16 @@ def test_act_with_modes_is_told_the_demos_mode_and_draws_one_per_episode(demo_st
         assert set(draws) == {0, 1}, "an untrained classifier draws either mode"
     finally:
         env.close()
+
+
+def test_baseline_fit_measures_the_acting_model_on_its_training_samples(demo_store, tmp_path):
+    import importlib.util
+    from pathlib import Path
+
+    path = Path(__file__).parents[2] / "benchmarks" / "baseline_fit.py"
+    spec = importlib.util.spec_from_file_location("baseline_fit", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    early = module.acting_fit(small_run("bc", demo_store, tmp_path / "early.pt", 5), demo_store)
+    late = module.acting_fit(small_run("bc", demo_store, tmp_path / "late.pt", 300), demo_store)
+    assert 0 < late < 0.7 * early, (early, late)
