@@ -3,7 +3,7 @@
 Run: ``python benchmarks/baseline_fit.py CHECKPOINT [CHECKPOINT ...] [--store STORE]``.
 For each checkpoint it replays the demos it trained on (same task, observations and rate),
 builds the acting model (the weight average when the run kept one, dropout off, z = 0, the
-demo's own mode when the run has modes) and prints the masked L1 between its chunks and the
+demo's own mode when the run has modes; dp samples each chunk as when acting) and prints the masked L1 between its chunks and the
 demos' on every training sample, in the normalised units of the training loss. The training
 loss alone cannot say this: it is measured with dropout and state noise on.
 """
