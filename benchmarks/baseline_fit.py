@@ -3,9 +3,10 @@
 Run: ``python benchmarks/baseline_fit.py CHECKPOINT [CHECKPOINT ...] [--store STORE]``.
 For each checkpoint it replays the demos it trained on (same task, observations and rate),
 builds the acting model (the weight average when the run kept one, dropout off, z = 0, the
-demo's own mode when the run has modes; dp samples each chunk as when acting) and prints the masked L1 between its chunks and the
-demos' on every training sample, in the normalised units of the training loss. The training
-loss alone cannot say this: it is measured with dropout and state noise on.
+demo's own mode when the run has modes; dp samples each chunk from a generator seeded 0, so
+the figure repeats) and prints the masked L1 between its chunks and the demos' on every
+training sample, in the normalised units of the training loss. The training loss alone
+cannot say this: it is measured with dropout and state noise on.
 """
 
 from __future__ import annotations
@@ -35,11 +36,11 @@ def acting_fit(checkpoint: Checkpoint, store=None) -> float:
         hold_end=checkpoint.config["hold_end"], modes=checkpoint.config.get("modes", 0),
     )  # fmt: skip
     model = checkpoint.build_model().eval()
-    total, weight = 0.0, 0
+    total, weight, generator = 0.0, 0, torch.Generator().manual_seed(0)
     with torch.no_grad():
         for start in range(0, len(dataset), 1024):
             batch = dataset.samples(torch.arange(start, min(start + 1024, len(dataset))))
-            error = masked_l1(model.predict(batch), batch["actions"], batch["pad"])
+            error = masked_l1(model.predict(batch, generator), batch["actions"], batch["pad"])
             kept = int((~batch["pad"]).sum())
             total, weight = total + error.item() * kept, weight + kept
     return total / weight
