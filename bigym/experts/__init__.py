@@ -16,6 +16,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
 :mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks`,
 :mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware` (the task scripts),
+:mod:`~bigym.experts.boxes` (the box carry of ``PickBox``: not registered yet, see its
+docstring),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),

@@ -137,6 +137,8 @@ class Expert:
         self._waited = 0.0
         self.grip = np.zeros(2)
         self.hands: list[HandReference | None] = [None, None]
+        #: per arm, (joint targets, costs) the IK prefers while its hand is active (None: relaxed)
+        self.arm_posture: list[tuple[np.ndarray, np.ndarray] | None] = [None, None]
         self.tremors = [self.human.tremor(), self.human.tremor()]
         self.idle_arm = [self._idle_posture(side) for side in (LEFT, RIGHT)]
         q = self.ik.q
@@ -249,6 +251,8 @@ class Expert:
             if self.hands[side] is None:
                 posture[index] = self.arm_refs[side](t)
                 cost[index] = ARM_IDLE_COST
+            elif self.arm_posture[side] is not None:  # a posture the task asks for (arms straight under a load)
+                posture[index], cost[index] = self.arm_posture[side]
             else:
                 posture[index] = self.idle_arm[side] * 0.3  # relaxed, elbows slightly down
                 cost[index] = ARM_ACTIVE_COST

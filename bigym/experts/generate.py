@@ -154,10 +154,20 @@ def demo_uuid(task: str, seed: int, style: dict | None) -> str:
 
 
 def record_attempt(
-    task: str, index: int, seed: int, style: dict | None = None, verify: bool = True, date: str | None = None
+    task: str,
+    index: int,
+    seed: int,
+    style: dict | None = None,
+    verify: bool = True,
+    date: str | None = None,
+    *,
+    expert_class: type | None = None,
+    rates: tuple[float, ...] | None = None,
 ) -> Attempt:
     """Record the expert on ``seed``, and (``verify``) replay it from its file bytes: at
-    the recording rate (bit-exact) and at each of ``VERIFY_RATES`` (within tolerance).
+    the recording rate (bit-exact) and at each of ``rates`` (within tolerance; default
+    ``VERIFY_RATES``, what a dataset demo must pass). ``expert_class``: an expert not (yet)
+    in the registry, e.g. one under development (default: the task's registered expert).
 
     ``date``: the date written into the demo (default now); with a fixed date the demo's
     bytes depend only on the task, seed, style and versions, and on this process's numpy
@@ -171,7 +181,11 @@ def record_attempt(
     env = _env(task)
     recorder = DemoRecorder(env, source="expert")
     obs, _ = recorder.reset(seed=seed)
-    expert = make_expert(env, seed=seed, style=HumanStyle(**style) if style else None)
+    human_style = HumanStyle(**style) if style else None
+    if expert_class is None:
+        expert = make_expert(env, seed=seed, style=human_style)
+    else:
+        expert = expert_class(env, seed=seed, style=human_style)
     watch = IncidentWatch(env)
     after = None
     info: dict = {}
@@ -205,7 +219,8 @@ def record_attempt(
     )
     if verify:
         # from the file's bytes, in a reused env per rate: no model build per demo
-        reason = verification_failure(demo, VERIFY_RATES, env_for=lambda rate: _env(task, rate))
+        checked = VERIFY_RATES if rates is None else rates
+        reason = verification_failure(demo, checked, env_for=lambda rate: _env(task, rate))
         if reason is not None:
             return Attempt(index, seed, False, reason, None, duration, choices)
     return Attempt(index, seed, True, None, demo.to_bytes(), duration, choices)
