@@ -53,20 +53,13 @@ def walk(rate: float, distance: float, seconds: float, kp: float | None, ramped:
         substeps = round(PHYSICS_RATE / rate)
         steps = round((seconds + 1.0) * PHYSICS_RATE)
         peak = 0.0
-        previous_target = start
+        previous = current = start  # the last control step's target and this one's
         for k in range(steps):
-            control_step = k // substeps
-            t_control = control_step * substeps / PHYSICS_RATE
-            target = start + distance * float(minimum_jerk_profile(min(t_control / seconds, 1.0)))
-            if k % substeps == 0 and k > 0:
-                previous_target = start + distance * float(
-                    minimum_jerk_profile(min((control_step - 1) * substeps / PHYSICS_RATE / seconds, 1.0))
-                )
-            if ramped and k > 0:
-                fraction = (k % substeps + 1) / substeps
-                data.ctrl[actuator] = previous_target + fraction * (target - previous_target)
-            else:
-                data.ctrl[actuator] = target
+            if k % substeps == 0:
+                progress = float(minimum_jerk_profile(min(k / PHYSICS_RATE / seconds, 1.0)))
+                previous, current = current, start + distance * progress
+            fraction = (k % substeps + 1) / substeps if ramped else 1.0
+            data.ctrl[actuator] = previous + fraction * (current - previous)
             mujoco.mj_step(model, data)
             peak = max(peak, abs(float(data.qacc[dof])))
         return peak

@@ -143,8 +143,9 @@ class BoxExpert(GraspingExpert):
 
     # ------------------------------------------------------------------ the hold
     def hold_box(self, centre: np.ndarray, gap: float, duration: float, cost: np.ndarray = HOLD_COST) -> float:
-        """Move both hands as one: the box's centre (base frame) to ``centre`` and each
-        hand to ``gap`` metres beside it, over ``duration`` s; returns the end time."""
+        """Move both hands as one: the hold point (midway between the knuckles, base frame)
+        to ``centre`` and each hand's knuckles to ``gap`` metres beside it, over ``duration``
+        s; returns the end time."""
         t0 = self.time
         start = self.box_now()
         goal = np.append(np.asarray(centre, float), gap)
@@ -166,7 +167,7 @@ class BoxExpert(GraspingExpert):
         return t0 + duration
 
     def box_now(self) -> np.ndarray:
-        """The hold now: the box's centre (base frame) and the hands' gap, stacked."""
+        """The hold now: the hold point (base frame) and the hands' gap, stacked."""
         path, t0, duration = self._box_path
         return np.asarray(path(min(max(self.time - t0, 0.0), duration)), float)
 
@@ -180,9 +181,7 @@ class BoxExpert(GraspingExpert):
 
     def both_touch(self) -> bool:
         box = self.env.mask(BOX)
-        return all(
-            self.env.touching(box, self._side_mask(side)) for side in (LEFT, RIGHT)
-        )
+        return all(self.env.touching(box, self._side_mask(side)) for side in (LEFT, RIGHT))
 
     def _side_mask(self, side: int) -> np.ndarray:
         mask = np.zeros(self.model.ngeom, bool)
@@ -203,7 +202,8 @@ class BoxExpert(GraspingExpert):
         hands_z = COUNTER_TOP + ENTRY_HEIGHT + 2 * half_height - HOLD_BELOW_TOP
         raised_reach = float(np.sqrt(max(ARM_REACH**2 - (SHOULDER_HEIGHT - hands_z) ** 2, 0.0))) + SHOULDER_AHEAD
         yaw = self.human.jitter(0.05)
-        ready = np.array([COUNTER_FRONT - COUNTER_MARGIN - depth - raised_reach, self.human.jitter(0.08), STANDING_HEIGHT, yaw])
+        ready_x = COUNTER_FRONT - COUNTER_MARGIN - depth - raised_reach
+        ready = np.array([ready_x, self.human.jitter(0.08), STANDING_HEIGHT, yaw])
         # stand square to the chosen faces, crouched, on the side of the box nearer where
         # the box goes (less to carry)
         reach = FLOOR_REACH + self.human.jitter(0.02)
