@@ -8,7 +8,7 @@ import gymnasium as gym
 # bigym.gl_context): it must be in place before the first fork, whatever else is imported.
 import bigym.gl_context  # noqa: F401
 
-__version__ = "0.2.0"
+__version__ = "0.3.0"
 
 # Registered ids: bigym/<TaskName>-v0 -> "module:Class".
 TASKS: dict[str, str] = {

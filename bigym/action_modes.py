@@ -126,7 +126,7 @@ class ActionController:
 
     def __init__(self, mode: ActionMode, robot: Robot, substeps: int) -> None:
         entries: list[LayoutEntry] = []
-        keep, ctrl_low, ctrl_high = [], [], []
+        keep, ctrl_low, ctrl_high, torque = [], [], [], []
         absolute = bool(mode.absolute)
         for index, act in enumerate(robot.description.actuators):
             group = _GROUP_OF_KIND.get(act.kind) or ("left_arm" if act.name.startswith("left") else "right_arm")
@@ -150,15 +150,19 @@ class ActionController:
                 name = f"{act.name}_delta"
                 c_low, c_high = act.joint_range  # targets never wind up past the joint range
             entries.append(LayoutEntry(name, index, low, high, unit, group))
+            torque.append(unit == "Nm")
             keep.append(k)
             ctrl_low.append(c_low)
             ctrl_high.append(c_high)
         for side in ("left", "right"):
             entries.append(LayoutEntry(f"{side}_gripper", len(entries), 0.0, 1.0, "0 open .. 1 closed", "grippers"))
             keep.append(0.0)
+            torque.append(False)
             ctrl_low.append(0.0)
             ctrl_high.append(1.0)
         self.layout = Layout(entries)
+        # Which entries are forces: the env holds them over a control step and ramps the rest.
+        self.torque = np.array(torque, bool)
         self.low = np.array([e.low for e in entries], np.float32)
         self.high = np.array([e.high for e in entries], np.float32)
         # Compare in float64 against the float32 bounds widened by one float32 ulp, so a bound

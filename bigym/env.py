@@ -114,6 +114,10 @@ class BiGymEnv(gym.Env):
         # Hot-loop state: cached views and index arrays. Views of MjData's arrays stay valid for
         # the env's life: reset (mj_resetData) and state copies write into the same memory.
         self._ctrl = self.data.ctrl[: self.robot.num_actuators]
+        # Below 500 Hz a servo target moves to its new value in equal parts over the control
+        # step's physics steps instead of jumping at its start (see step()); torques are held.
+        self._ramp_fractions = (np.arange(1, self.substeps) / self.substeps)[:, None]
+        self._held = self._controller.torque if self._controller.torque.any() else None
         self._warning_counts = self.data.warning.number
         self._pelvis_xy = self.data.xpos[self.robot.pelvis_id, :2]
         self._privileged = self.observation_config.privileged_information
@@ -234,15 +238,32 @@ class BiGymEnv(gym.Env):
             info = {"is_success": False, "unstable": self._unstable_reason}
             return self._last_obs, 0.0, False, True, info
         controller = self._controller
-        controller.apply(self._ctrl, controller.validate(action))
-        model, data = self.model, self.data
+        action = controller.validate(action)
+        model, data, ctrl = self.model, self.data, self._ctrl
         # mj_step2 then mj_step1 per physics step: the same physics as mj_step, bit for bit,
         # but it ends with positions, contacts and sensors computed for the *new* state, so
         # observations, images and success all describe the state the step returns.
         step1, step2 = mujoco.mj_step1, mujoco.mj_step2
-        for _ in range(self.substeps):
-            step2(model, data)
-            step1(model, data)
+        if self.substeps == 1:
+            controller.apply(ctrl, action)
+        else:
+            # Ramp each servo target from its last value to the new one: step k of n sets
+            # start + k/n * (end - start), the last exactly end. A 50 Hz action is then the ten
+            # 500 Hz actions it stands for, and the floating base has no step jolt (a held
+            # target jumps the base servo's error by the whole step: 20-70 m/s^2 at 50-20 Hz).
+            start = ctrl.copy()
+            controller.apply(ctrl, action)
+            if self._held is not None:
+                start[self._held] = ctrl[self._held]
+            ramp = start + self._ramp_fractions * (ctrl - start)
+            end = ctrl.copy()
+            for targets in ramp:
+                ctrl[:] = targets
+                step2(model, data)
+                step1(model, data)
+            ctrl[:] = end
+        step2(model, data)
+        step1(model, data)
         self._elapsed_steps += 1
         if any(self._warning_counts.tolist()):  # ~10x faster than ndarray.any() on these few ints
             return self._unstable_step()

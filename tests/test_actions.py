@@ -337,3 +337,99 @@ def test_substep_timing_for_uneven_frequency():
         assert env.data.time == pytest.approx(3 * 17 * env.model.opt.timestep)
     finally:
         env.close()
+
+
+# ------------------------------------------------------------------ targets within a control step
+def _raw_copy(env):
+    """A bare MjData in the env's current state, to step by hand with chosen controls."""
+    import mujoco
+
+    data = mujoco.MjData(env.model)
+    spec = mujoco.mjtState.mjSTATE_INTEGRATION
+    state = np.empty(mujoco.mj_stateSize(env.model, spec))
+    mujoco.mj_getState(env.model, env.data, state, spec)
+    mujoco.mj_setState(env.model, data, state, spec)
+    mujoco.mj_forward(env.model, data)
+    return data
+
+
+def _step_by_hand(env, data, controls):
+    import mujoco
+
+    n = env.robot.num_actuators
+    for row in controls:
+        data.ctrl[:n] = row
+        mujoco.mj_step(env.model, data)
+
+
+def test_servo_targets_ramp_over_the_control_step():
+    """At 50 Hz each physics step's target is start + k/10 * (end - start), the last exactly end."""
+    env = ReachTargetSingle(control_frequency=50)
+    try:
+        env.reset(seed=3)
+        rng = np.random.default_rng(0)
+        for _ in range(5):
+            data = _raw_copy(env)
+            start = env.data.ctrl[: env.robot.num_actuators].copy()
+            action = (0.5 * rng.uniform(env.action_space.low, env.action_space.high)).astype(np.float32)
+            env.step(action)
+            end = env.data.ctrl[: env.robot.num_actuators].copy()
+            assert not np.array_equal(start, end)
+            k = (np.arange(1, 10) / 10)[:, None]
+            _step_by_hand(env, data, [*(start + k * (end - start)), end])
+            np.testing.assert_array_equal(data.qpos, env.data.qpos)
+            np.testing.assert_array_equal(data.qvel, env.data.qvel)
+    finally:
+        env.close()
+
+
+def test_torques_are_held_over_the_control_step():
+    env = ReachTargetSingle(control_frequency=50, action_mode=TorqueActionMode(floating_base=True))
+    try:
+        env.reset(seed=1)
+        torque = env.unwrapped._controller.torque
+        assert torque.any() and not torque.all()  # arm torques; the base and grippers are targets
+        rng = np.random.default_rng(1)
+        for _ in range(3):
+            data = _raw_copy(env)
+            start = env.data.ctrl[: env.robot.num_actuators].copy()
+            env.step((0.3 * rng.uniform(env.action_space.low, env.action_space.high)).astype(np.float32))
+            end = env.data.ctrl[: env.robot.num_actuators].copy()
+            k = (np.arange(1, 10) / 10)[:, None]
+            ramp = start + k * (end - start)
+            ramp[:, torque] = end[torque]
+            _step_by_hand(env, data, [*ramp, end])
+            np.testing.assert_array_equal(data.qpos, env.data.qpos)
+    finally:
+        env.close()
+
+
+def test_a_50_hz_action_equals_its_500_hz_substeps():
+    """One 50 Hz action moves the robot as the ten 500 Hz actions it stands for (to rounding).
+
+    With targets held over the control step instead, the hands end about 2 cm apart.
+    """
+    slow = ReachTargetSingle(control_frequency=50)
+    fast = ReachTargetSingle(control_frequency=500)
+    try:
+        slow.reset(seed=2)
+        fast.reset(seed=2)
+        np.testing.assert_array_equal(slow.data.qpos, fast.data.qpos)
+        gripper = np.array(["gripper" in name for name in slow.action_layout.names])
+        rng = np.random.default_rng(2)
+        n = slow.robot.num_actuators
+        low, high = slow._controller._ctrl_low, slow._controller._ctrl_high
+        for _ in range(20):
+            action = 0.1 * rng.uniform(slow.action_space.low, slow.action_space.high)
+            action[gripper] = 0.0  # absolute: a gripper ramp is not a sum of deltas
+            dz = slow.action_layout["base_dz"]
+            action[dz] = -abs(action[dz])  # the base starts at its highest
+            slow.step(action)
+            for _ in range(10):
+                fast.step(action / 10)
+            targets = slow.data.ctrl[:n][~gripper]
+            assert ((targets > low[~gripper]) & (targets < high[~gripper])).all()  # none clamped at its range
+        np.testing.assert_allclose(slow.data.qpos, fast.data.qpos, atol=1e-9)
+    finally:
+        slow.close()
+        fast.close()

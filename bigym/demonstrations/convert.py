@@ -18,10 +18,12 @@ A new action stream is then read off that per-physics-step control, one window o
   the sum of the window's deltas; a clipped remainder carries into the next window, so
   the motion is kept.
 
-A trailing part-window is padded with "hold" (absolute repeated, zero deltas).
-Some conversions are exact (the same physics, bit for bit): delta to absolute at the
-same rate, and any rate divided by a whole number (50 Hz to 500 Hz) when every delta
-fits the finer bounds. The others follow the recording within a tolerance.
+Below 500 Hz the env ramps each servo target over its action's physics steps (torques are
+held), and the per-physics-step control above includes that ramp. A trailing part-window
+is padded with "hold" (absolute repeated, zero deltas). Some conversions are exact (the
+same physics, bit for bit): delta to absolute at the same rate, and any rate to 500 Hz
+when the 500 Hz actions reproduce every physics step's control exactly (checked, not
+assumed). The others follow the recording within a tolerance.
 """
 
 from __future__ import annotations
@@ -143,18 +145,26 @@ def _delta_steps(wanted: np.ndarray, start: np.ndarray, low, high, c_low, c_high
     return steps
 
 
-def _exact_upsample(actions: np.ndarray, source: ActionSpec, target: ActionSpec) -> np.ndarray | None:
-    """Split each action into ``factor`` finer ones with identical physics, if bounds allow."""
-    factor = source.substeps // target.substeps
-    delta = target.kinds == DELTA
-    if target.low is not None and delta.any():
-        d = actions[:, delta]
-        if (d < target.low[delta]).any() or (d > target.high[delta]).any():
-            return None
-    out = np.repeat(actions, factor, axis=0)
-    for offset in range(1, factor):
-        out[offset::factor, delta] = 0.0
-    return out
+def physics_controls(actions: np.ndarray, spec: ActionSpec, ctrl0: np.ndarray) -> np.ndarray:
+    """The control on each actuator at every physics step: shape (steps * substeps, A).
+
+    The env's arithmetic: over an action's ``n`` physics steps a servo target moves from its
+    last value to the new one in equal parts (``start + k/n * (end - start)``, the last step
+    exactly ``end``); torques are held.
+    """
+    held = held_controls(actions, spec, ctrl0)
+    n = spec.substeps
+    if n == 1:
+        return held
+    starts = np.concatenate([np.asarray(ctrl0, np.float64)[None], held[:-1]])
+    torque = spec.kinds == TORQUE
+    starts[:, torque] = held[:, torque]
+    fractions = (np.arange(1, n) / n)[:, None]
+    controls = np.empty((len(held), n, held.shape[1]))
+    for k, (start, end) in enumerate(zip(starts, held)):
+        controls[k, :-1] = start + fractions * (end - start)
+        controls[k, -1] = end
+    return controls.reshape(-1, held.shape[1])
 
 
 def convert_actions(
@@ -189,12 +199,7 @@ def convert_actions(
         # A delta recomputed from absolute targets may differ in the last bit.
         return out, not to_delta.any()
 
-    if np.array_equal(source.kinds, target.kinds) and source.substeps % target.substeps == 0:
-        exact = _exact_upsample(actions, source, target)
-        if exact is not None:
-            return exact, True
-
-    controls = np.repeat(held_controls(actions, source, ctrl0), source.substeps, axis=0)
+    controls = physics_controls(actions, source, ctrl0)
     physics_steps = len(controls)
     s = target.substeps
     count = -(-physics_steps // s)  # ceil: a part-window at the end is padded with "hold"
@@ -206,7 +211,10 @@ def convert_actions(
         out[:, torque] = windows[:, :, torque].mean(axis=1)
     if delta_target.any():
         out[:, delta_target] = _delta_steps(out[:, delta_target], ctrl0[delta_target], low, high, c_low, c_high)
-    return out, False
+    # Exact when the new actions set the very same control at every physics step (checked,
+    # not assumed): only possible at 500 Hz, where each action is one physics step.
+    exact = s == 1 and np.array_equal(held_controls(out, target, ctrl0), controls)
+    return out, exact
 
 
 def _pick(bound, mask):

@@ -55,6 +55,7 @@ EXPERTS: dict[str, str] = {
     "MoveTwoPlates": "bigym.experts.move_plates:MovePlateExpert",
     "SaucepanToHob": "bigym.experts.cookware:CookwareExpert",
     "StoreKitchenware": "bigym.experts.cookware:CookwareExpert",
+    "PickBox": "bigym.experts.boxes:BoxExpert",
 }
 
 

@@ -24,14 +24,10 @@ Choices drawn per demo: which pair of faces the hands take (the wide faces or th
 narrow ones), which side of the box the body takes it from (the one nearer the counter),
 where on the counter it goes, the timing, and every path's via-points.
 
-Status: not in the registry (:data:`bigym.experts.EXPERTS`) and ``PickBox`` not in the
-dataset. On seeds 0-11 the expert puts the box on the counter in 11 of 12 recordings
-at 500 Hz (one rejected: the squeeze pressed 6.5 mm into the box), and 9 of those 11
-replay to success at 50 Hz, but only 2 pass at 25 and 20 Hz as well: replayed at a
-low rate, the floating base takes each new target in a jolt (2 g at 50 Hz and 7 g at
-20 Hz on a 0.47 m/s walk, against 0.04 g at 500 Hz; ``benchmarks/base_jolt.py``) that
-shakes the squeezed box out of the hands. Walking slower helps only until the task's
-time runs out. Ramping the base's target over each control step removes the jolts.
+Why this needs bigym 0.3.0: replayed at 25 or 20 Hz with each new base target held over
+the control step, the floating base took every step in a jolt (2 g at 50 Hz, 7 g at 20 Hz
+on a 0.47 m/s walk; ``benchmarks/base_jolt.py``) that shook the box out of the squeeze;
+with targets ramped over the control step the replays at every rate keep it.
 """
 
 from __future__ import annotations
@@ -81,10 +77,11 @@ CARRY_X = 0.4
 CARRY_HANDS_Z = 0.85
 COUNTER_MARGIN = 0.05
 #: how fast (relative to the demonstrator's pace) the body walks carrying the box (and
-#: stands up with it), and how fast the arms raise it: slowly, because at low
-#: control rates (a replay at 20 Hz) the base's stiff position servo takes each new
-#: target in a jolt, which a quicker step makes strong enough to shake the box out of the
-#: squeeze (see ``benchmarks/base_jolt.py``)
+#: stands up with it), and how fast the arms raise it: slowly. Chosen when replays at low
+#: control rates held each new base target over the control step and the base took it in
+#: a jolt that a quicker step made strong enough to shake the box out of the squeeze
+#: (``benchmarks/base_jolt.py``); the ramp since bigym 0.3.0 removes the jolt, and a
+#: quicker carry has not been tried.
 CARRY_SPEED = 0.2
 RAISE_SPEED = 0.4
 #: how far (m) the hands go on down once the box touches the counter before they let go:

@@ -49,6 +49,7 @@ DATASET_TASKS = (
     "MoveTwoPlates",
     "SaucepanToHob",
     "StoreKitchenware",
+    "PickBox",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went
