@@ -130,8 +130,8 @@ def on_gpu(machine: str) -> str:
 
 def table(out: Path) -> str:
     lines = [
-        "| task | method | observations | settings | success | 95% interval | demos | steps | training |",
-        "|---|---|---|---|---:|---:|---:|---:|---:|",
+        "| task | method | observations | settings | success | 95% interval | demos | steps | training | bigym |",
+        "|---|---|---|---|---:|---:|---:|---:|---:|---|",
     ]
     for path in sorted(out.glob("*.json")):
         data = json.loads(path.read_text())
@@ -144,7 +144,8 @@ def table(out: Path) -> str:
             f"| {data['task']} | {data['method']} | {track} | {differences(data['method'], training['config'])} "
             f"| {s.successes}/{s.episodes}{official} "
             f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
-            f"| {training['seconds'] / 60:.0f} min{on_gpu(data.get('machine', ''))} |"
+            f"| {training['seconds'] / 60:.0f} min{on_gpu(data.get('machine', ''))} "
+            f"| {result.fingerprint['bigym_version']} |"
         )
     return "\n".join(lines)
 

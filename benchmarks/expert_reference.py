@@ -3,8 +3,8 @@
 Run: ``python benchmarks/expert_reference.py [--out results/expert] [--task T ...]
 [--workers W]``. Each task's full record (every episode) is written to
 ``<out>/<Task>.json`` by the same code as ``bigym eval TASK --policy expert --json``; a
-task whose record exists is not run again (delete it to re-run), so the command resumes
-where it stopped. It ends by printing the Markdown table of all records in ``<out>``.
+task whose record exists for this bigym version is not run again (delete it to re-run), so
+the command resumes where it stopped; a record of another version is replaced. It ends by printing the Markdown table of all records in ``<out>``.
 """
 
 from __future__ import annotations
@@ -16,14 +16,15 @@ from pathlib import Path
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
+import bigym  # noqa: E402
 from bigym.evaluation import EvaluationResult, evaluate  # noqa: E402
 from bigym.experts import EXPERTS  # noqa: E402
 
 
 def table(out: Path) -> str:
     lines = [
-        "| task | expert success | 95% interval | mean episode | time limit | outcomes other than success |",
-        "|---|---:|---:|---:|---:|---|",
+        "| task | expert success | 95% interval | mean episode | time limit | outcomes other than success | bigym |",
+        "|---|---:|---:|---:|---:|---|---|",
     ]
     for task in EXPERTS:
         path = out / f"{task}.json"
@@ -36,7 +37,8 @@ def table(out: Path) -> str:
         official = "" if result.official else " (unofficial)"
         lines.append(
             f"| {task}{official} | {s.successes}/{s.episodes} | {100 * low:.0f}-{100 * high:.0f}% "
-            f"| {s.mean_sim_time:.1f} s | {result.fingerprint['time_limit']:g} s | {others or '-'} |"
+            f"| {s.mean_sim_time:.1f} s | {result.fingerprint['time_limit']:g} s | {others or '-'} "
+            f"| {result.fingerprint['bigym_version']} |"
         )
     return "\n".join(lines)
 
@@ -50,8 +52,8 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     for task in args.task or list(EXPERTS):
         path = args.out / f"{task}.json"
-        if path.exists():
-            continue
+        if path.exists() and EvaluationResult.load(path).fingerprint["bigym_version"] == bigym.__version__:
+            continue  # a record of another bigym version (other physics) is run again
         result = evaluate("bigym.experts:make_expert", task, workers=args.workers)
         result.save(path)
         print(f"{task}: {result.summary.line()} ({result.wall_time:.0f} s wall)", flush=True)
