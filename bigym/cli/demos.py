@@ -601,7 +601,11 @@ def dataset_build(
     ray_address: RayAddressOption = None,
     resume: Annotated[bool, typer.Option(help="Skip tasks whose files OUT already holds complete.")] = True,
     update_manifest: Annotated[
-        bool, typer.Option(help="Maintainers: merge the result into the shipped manifest.")
+        bool,
+        typer.Option(
+            help="Maintainers: merge the result into the shipped manifest (resuming against what "
+            "this bigym version built in OUT, not against the manifest it replaces)."
+        ),
     ] = False,
 ) -> None:
     """Regenerate the expert dataset into OUT, task by task (an interrupted build resumes
@@ -621,7 +625,9 @@ def dataset_build(
             console.print(report.summary(), highlight=False)
 
     start_backend(backend, ray_address, workers, _fail)
-    build_dataset(out, tasks, workers=workers, on_task=done, resume=resume, backend=backend)
+    build_dataset(
+        out, tasks, workers=workers, on_task=done, resume=resume, backend=backend, against_shipped=not update_manifest
+    )
     console.print(f"dataset {DATASET_VERSION} written to {out}: serve it with DemoStore({str(out)!r})")
     if update_manifest:
         from bigym.experts.dataset import write_shipped_manifest

@@ -56,6 +56,7 @@ EXPERTS: dict[str, str] = {
     "SaucepanToHob": "bigym.experts.cookware:CookwareExpert",
     "StoreKitchenware": "bigym.experts.cookware:CookwareExpert",
     "PickBox": "bigym.experts.boxes:BoxExpert",
+    "StoreBox": "bigym.experts.store_box:StoreBoxExpert",
 }
 
 

@@ -50,6 +50,7 @@ DATASET_TASKS = (
     "SaucepanToHob",
     "StoreKitchenware",
     "PickBox",
+    "StoreBox",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went
@@ -141,10 +142,19 @@ def _write_record(path: Path, record: dict) -> None:
     atomic_write(path, (json.dumps(record, indent=1, sort_keys=True) + "\n").encode())
 
 
-def task_complete(out: Path | str, task: str, per_task: int = DEMOS_PER_TASK) -> bool:
+def _bigym_version() -> str:
+    from bigym import __version__
+
+    return __version__
+
+
+def task_complete(out: Path | str, task: str, per_task: int = DEMOS_PER_TASK, against_shipped: bool = True) -> bool:
     """The store folder ``out`` already holds ``task``'s slice of the version: exactly the
     files the shipped manifest lists for it (or, for a task the manifest does not list yet,
-    the files a build recorded for it in ``out``), each present with its size and sha256."""
+    the files a build recorded for it in ``out``), each present with its size and sha256.
+
+    ``against_shipped=False`` (maintainers rebuilding the version, whose shipped manifest is
+    about to be replaced): the files a build of this bigym version recorded in ``out``."""
     from bigym.demonstrations.provision import file_matches
     from bigym.demonstrations.store import DemoStore
 
@@ -155,7 +165,11 @@ def task_complete(out: Path | str, task: str, per_task: int = DEMOS_PER_TASK) ->
         return False
     shipped = shipped_manifest_path()
     expected = set()
-    if shipped.is_file():
+    if not against_shipped:
+        recorded = _read_record(_local_record_path(Path(out))).get("tasks", {}).get(task, {})
+        if recorded.get("bigym_version") != _bigym_version():
+            return False
+    elif shipped.is_file():
         table = _file_table(shipped.read_text())
         expected = {(p, size, sha) for p, (size, sha) in table.items() if p.startswith(f"{task}/")}
     if expected:
@@ -178,12 +192,14 @@ def build_dataset(
     on_task=None,
     resume: bool = True,
     backend: str = "process",
+    against_shipped: bool = True,
 ) -> list:
     """Regenerate the dataset version into the store folder ``out``, one task at a time.
 
     Each task is generated, checked and added before the next starts, so an interrupted
     build loses at most the task in progress; with ``resume`` a task whose files are
-    already complete in ``out`` (see :func:`task_complete`) is skipped. Every built task's
+    already complete in ``out`` (see :func:`task_complete`, which ``against_shipped`` is
+    passed to) is skipped. Every built task's
     figures (attempts, generator success, failure reasons, seconds) go into
     ``out/<version>/build.json`` as it finishes. Returns the
     :class:`~bigym.experts.generate.GenerationReport` of every task built;
@@ -201,7 +217,7 @@ def build_dataset(
     record_path = _local_record_path(Path(out))
     reports = []
     for task in tasks or DATASET_TASKS:
-        if resume and task_complete(out, task, per_task):
+        if resume and task_complete(out, task, per_task, against_shipped):
             if on_task is not None:
                 on_task(task, None)
             continue
@@ -226,6 +242,7 @@ def build_dataset(
             "build_seconds": round(seconds, 1),
             "workers": workers or min(8, os.cpu_count() or 1),
             "machine": f"{platform.machine()}, {os.cpu_count()} CPUs",
+            "bigym_version": _bigym_version(),
             "demo_seconds": round(sum(d.duration for d in report.demos), 1),
             "files": sorted(e.path for e in entries),
         }

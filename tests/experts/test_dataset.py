@@ -170,6 +170,32 @@ def test_an_interrupted_build_resumes_and_a_cut_merges_into_the_shipped_manifest
     assert dataset.task_complete(out, "ReachTargetDual", per_task=2)  # now against the merged manifest
 
 
+def test_a_maintainer_rebuild_resumes_against_its_own_build_not_the_stale_manifest(tmp_path, monkeypatch):
+    """After a physics change every shipped sha256 is stale: a user's build must not trust
+    such files, but a maintainer's rebuild (``--update-manifest``) resumes on what this
+    bigym version built, and only on that."""
+    import bigym.experts.dataset as dataset
+
+    monkeypatch.setattr(dataset, "MANIFEST_DIR", tmp_path / "manifests")
+    out = tmp_path / "store"
+    build_dataset(out, ("ReachTargetDual",), workers=1, progress=False, per_task=2)
+    built = json.loads((out / DATASET_VERSION / "manifest.json").read_text())["demos"]
+    stale = [{**e, "sha256": "f" * 64} for e in built]  # what the last version shipped
+    (tmp_path / "manifests").mkdir()
+    dataset.shipped_manifest_path().write_text(json.dumps({"format": "bigym-demo-store", "demos": stale}))
+    assert not dataset.task_complete(out, "ReachTargetDual", per_task=2)
+    assert dataset.task_complete(out, "ReachTargetDual", per_task=2, against_shipped=False)
+    seen: list = []
+    build_dataset(out, ("ReachTargetDual",), workers=1, progress=False, per_task=2, against_shipped=False,
+                  on_task=lambda t, r: seen.append(r))  # fmt: skip
+    assert seen == [None]
+    record_path = out / DATASET_VERSION / "build.json"
+    record = json.loads(record_path.read_text())
+    record["tasks"]["ReachTargetDual"]["bigym_version"] = "0.0.1"  # built by another bigym
+    record_path.write_text(json.dumps(record))
+    assert not dataset.task_complete(out, "ReachTargetDual", per_task=2, against_shipped=False)
+
+
 @pytest.mark.parametrize("task", DATASET_TASKS)
 def test_the_first_demo_of_every_shipped_task_regenerates_byte_for_byte(tmp_path, task):
     """Every task of the shipped dataset, not one: its first demo, regenerated here, has the
