@@ -237,11 +237,16 @@ class BoxExpert(GraspingExpert):
         yield from self.put_down(half_width)
 
     # ------------------------------------------------------------------ skills
-    def take_box(self, crouched: np.ndarray, hold_point: np.ndarray, half_width: float) -> Script:
-        """Walk and crouch to ``crouched`` (base pose); on the way the closed hands come down
-        beside the box, one each side of ``hold_point`` (world); then squeeze."""
+    def take_box(
+        self, crouched: np.ndarray, hold_point: np.ndarray, half_width: float, lead: float = HANDS_DOWN,
+        above: float = 0.12, outside: float | None = None,
+    ) -> Script:  # fmt: skip
+        """Walk and crouch to ``crouched`` (base pose); ``lead`` s before the walk ends the
+        closed hands start down beside the box, one each side of ``hold_point`` (world), via a
+        point ``above`` it (and first, when given, one ``outside`` m higher and 5 cm further
+        out, so that they do not sweep across a box at chest height); then squeeze."""
         end_walk = yield from self.walk([crouched], wait=False)
-        yield from self.until(end_walk - HANDS_DOWN)
+        yield from self.until(end_walk - lead)
         self.grip[:] = 1.0  # fists
         local_centre, _ = to_base(crouched, hold_point, np.eye(3))
         ends = []
@@ -250,9 +255,11 @@ class BoxExpert(GraspingExpert):
             local = local_centre + np.array([0.0, sign * (half_width + KNUCKLES + OPEN_GAP), 0.0])
             local = local + KNUCKLES_BACK * self.hold_rotation()[:, 2]
             goal, rotation = from_base(crouched, local, self.hold_rotation())
-            above = goal + np.array([0.0, 0.0, 0.12])
+            via = [goal + np.array([0.0, 0.0, above])]
+            if outside is not None:
+                via.insert(0, from_base(crouched, local + np.array([0.0, sign * 0.05, outside]), None)[0])
             duration = max(HANDS_DOWN, end_walk - self.time + 0.3)
-            ends.append(self.move_hand(side, goal, rotation, HOLD_COST, via=[above], duration=duration))
+            ends.append(self.move_hand(side, goal, rotation, HOLD_COST, via=via, duration=duration))
         yield from self.until(max(ends))
         self.base_ref = lambda t, b=crouched: b
         held = np.append(local_centre, half_width + KNUCKLES + OPEN_GAP)

@@ -31,18 +31,14 @@ from bigym.experts.boxes import (
     ARM_REACH,
     BOX,
     HANDS_DOWN,
-    HOLD_COST,
     KNUCKLES,
-    KNUCKLES_BACK,
-    OPEN_GAP,
     SHOULDER_AHEAD,
     SHOULDER_HEIGHT,
-    SQUEEZE,
     BoxExpert,
 )
 from bigym.experts.doors import DoorSkills
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
-from bigym.experts.grasping import LOWER_SPEED, from_base, to_base
+from bigym.experts.grasping import LOWER_SPEED, from_base
 from bigym.robot.h1 import STANDING_HEIGHT
 
 CABINET = "cabinet"
@@ -138,7 +134,9 @@ class StoreBoxExpert(BoxExpert, DoorSkills):
         point = centre[:2] - self.reach_at(stand_z, hold_z) * facing
         stance = np.array([point[0], point[1], stand_z, float(np.arctan2(facing[1], facing[0]))])
         self.note("walk to box")
-        yield from self.take_from_counter(stance, np.array([centre[0], centre[1], hold_z]), half_width)
+        # the fists come over the box's sides from above and outside, not across its top
+        hold_point = np.array([centre[0], centre[1], hold_z])
+        yield from self.take_box(stance, hold_point, half_width, lead=0.5 * HANDS_DOWN, above=0.1, outside=0.22)
         self.note("lift")
         end = self.hold_box(self.box_local + np.array([0.0, 0.0, LIFT]), self.box_gap, 0.6)
         yield from self.until(end)
@@ -172,35 +170,6 @@ class StoreBoxExpert(BoxExpert, DoorSkills):
         self.hold_box(hold, self.box_gap, end_walk - self.time)
         yield from self.until(end_walk)
         self.base_ref = lambda t, b=base: b
-
-    def take_from_counter(self, stance: np.ndarray, hold_point: np.ndarray, half_width: float) -> Script:
-        """Walk to ``stance``; the fists come over the box's sides from above and outside
-        (not across its top), then squeeze."""
-        end_walk = yield from self.walk([stance], wait=False)
-        yield from self.until(end_walk - 0.5 * HANDS_DOWN)
-        self.grip[:] = 1.0  # fists
-        local_centre = to_base(stance, hold_point, np.eye(3))[0]
-        ends = []
-        for side in (LEFT, RIGHT):
-            sign = 1.0 if side == LEFT else -1.0
-            local = local_centre + np.array([0.0, sign * (half_width + KNUCKLES + OPEN_GAP), 0.0])
-            local = local + KNUCKLES_BACK * self.hold_rotation()[:, 2]
-            goal, rotation = from_base(stance, local, self.hold_rotation())
-            outside = from_base(stance, local + np.array([0.0, sign * 0.05, 0.22]), None)[0]
-            above = goal + np.array([0.0, 0.0, 0.1])
-            duration = max(HANDS_DOWN, end_walk - self.time + 0.3)
-            ends.append(self.move_hand(side, goal, rotation, HOLD_COST, via=[outside, above], duration=duration))
-        yield from self.until(max(ends))
-        self.base_ref = lambda t, b=stance: b
-        held = np.append(local_centre, half_width + KNUCKLES + OPEN_GAP)
-        self._box_path = (lambda t, v=held: v, self.time, 0.0)
-        yield from self.hesitate()
-        self.straighten_arms(True)
-        self.note("squeeze")
-        end = self.hold_box(local_centre, half_width + KNUCKLES - SQUEEZE, 0.6)
-        yield from self.until(end + 0.3)
-        if not self.both_touch():
-            self.note("missed the box")
 
     def put_in(self, half_width: float) -> Script:
         """Lower the box until it rests flat on the shelf (it hangs tilted in the fists and
