@@ -15,9 +15,9 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.doors` (open and close hinged doors),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
 :mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks`,
-:mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware` (the task scripts),
-:mod:`~bigym.experts.boxes` (the box carry of ``PickBox``: not registered yet, see its
-docstring),
+:mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware`,
+:mod:`~bigym.experts.boxes`, :mod:`~bigym.experts.store_box`,
+:mod:`~bigym.experts.flip_cup` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -57,6 +57,7 @@ EXPERTS: dict[str, str] = {
     "StoreKitchenware": "bigym.experts.cookware:CookwareExpert",
     "PickBox": "bigym.experts.boxes:BoxExpert",
     "StoreBox": "bigym.experts.store_box:StoreBoxExpert",
+    "FlipCup": "bigym.experts.flip_cup:FlipCupExpert",
 }
 
 

@@ -51,6 +51,7 @@ DATASET_TASKS = (
     "StoreKitchenware",
     "PickBox",
     "StoreBox",
+    "FlipCup",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

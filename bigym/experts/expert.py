@@ -536,6 +536,7 @@ class Expert:
         via: Sequence[np.ndarray] | None = None,
         align: np.ndarray = ALIGN_BAR,
         opening: float = 0.0,
+        keep_sign: bool = False,
     ) -> Script:
         """Reach a bar handle, straddle it with the open fingers, and close them.
 
@@ -543,11 +544,13 @@ class Expert:
         ``offset`` slides the grasp along the bar. The hand first goes to a pre-grasp
         point in front of the bar (a free minimum-jerk movement, maybe with a
         correction), then slides in slowly. ``opening`` pre-closes the fingers that far (0 =
-        wide open), as a hand shapes itself to a thin handle near a surface.
+        wide open), as a hand shapes itself to a thin handle near a surface. With
+        ``keep_sign`` the pinch x axis points along ``bar_axis`` as given (a grasp chosen for
+        what the hand does next), not the way nearer to the hand.
         """
         self.note(f"reach bar {'LR'[side]}")
         approach = axis_angle_matrix(bar_axis, tilt) @ approach
-        rotation = self.bar_grasp_rotation(side, bar_axis, approach)
+        rotation = frame_from_axes(bar_axis, approach) if keep_sign else self.bar_grasp_rotation(side, bar_axis, approach)
         grasp = centre + bar_axis * offset + approach * depth
         standoff = 0.09 + abs(self.human.jitter(0.02))
         pre = grasp - approach * standoff + self.human.jitter(0.006, 3)
