@@ -66,8 +66,6 @@ HOB_OPENING = 0.45
 SHELF_LIFT = 0.03
 #: the door opens to its stop: the push aims only this far (normalised) past it
 DOOR_PUSH_PAST = 0.03
-#: how far (m) the pelvis keeps inside an open door's plane (the torso and the other arm)
-DOOR_CLEARANCE = 0.36
 #: how often the pot on the front burner is taken first
 FRONT_FIRST = 0.8
 #: how high (m) a pot is lifted off the hob
@@ -150,17 +148,6 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         self.relax_arm(1 - side)
 
     # ------------------------------------------------------------------ steps
-    def keep_clear_of_open_door(self, prop: str, key: str) -> None:
-        """The open door stands out from its hinge towards the robot: keep the body on
-        the cabinet's side of it (a half-plane ``DOOR_CLEARANCE`` inside the hinge)."""
-        p = self.env.props[prop]
-        hinge = self.data.xanchor[p.joint_ids[p.joint_index(key)]].copy()
-        facing = self.module_facing(prop)
-        outward = hinge - self.data.xpos[p.root_body_id]
-        outward -= facing * (outward @ facing)
-        outward[2] = 0.0
-        self.keep_base_behind(hinge, outward / np.linalg.norm(outward), DOOR_CLEARANCE)
-
     def take_from_cabinet(self, side: int, pot: str) -> Script:
         """Crouch in front of the open cabinet and take the pot by its handle."""
         prop = self.env.props[pot]

@@ -21,6 +21,9 @@ OVERSHOOT = 0.04
 #: a base-cabinet door's width (m) and how far (m) the pelvis keeps out of its sweep
 DOOR_WIDTH = 0.6
 SWEEP_CLEARANCE = 0.25
+#: how far (m) the pelvis keeps inside an open base-cabinet door's plane (the torso and
+#: the other arm)
+DOOR_CLEARANCE = 0.36
 #: orientation costs while taking a door's upright handle (the yaw about the bar is held too)
 HANDLE_ALIGN = np.array([1.5, 0.8, 2.0])
 
@@ -98,6 +101,17 @@ class DoorSkills(Expert):
             if keep_out is not None:
                 planes = self.ik.base_region.planes
                 planes[:] = [plane for plane in planes if plane is not keep_out]
+
+    def keep_clear_of_open_door(self, prop: str, key: str, clearance: float = DOOR_CLEARANCE) -> None:
+        """The open door stands out from its hinge towards the robot: keep the body on
+        the cabinet's side of it (a half-plane ``clearance`` inside the hinge)."""
+        p = self.env.props[prop]
+        hinge = self.data.xanchor[p.joint_ids[p.joint_index(key)]].copy()
+        facing = self.module_facing(prop)
+        outward = hinge - self.data.xpos[p.root_body_id]
+        outward -= facing * (outward @ facing)
+        outward[2] = 0.0
+        self.keep_base_behind(hinge, outward / np.linalg.norm(outward), clearance)
 
     def keep_out_of_sweep(self, prop: str, key: str) -> tuple[np.ndarray, float] | None:
         """Keep the base out of a low door's sweep (the door would hit the robot): a

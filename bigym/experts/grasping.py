@@ -258,6 +258,7 @@ class GraspingExpert(Expert):
         feel: bool = True,
         tip_down: float = 0.0,
         land: float = 0.0,
+        headroom: float | None = None,
     ) -> Script:
         """Put the held object down so that its origin (the pinch centre if ``prop`` is
         None) ends at ``point``, open, and rise away. With ``prop``, the hand goes on down
@@ -271,7 +272,8 @@ class GraspingExpert(Expert):
         then goes on down, up to this far (m), turning it about that edge until it lies flat.
         ``land`` (without ``feel``): the object may hang a little higher in the hand than
         it did; the hand goes on down, up to this far (m), until the object is at ``point``,
-        so that it is let go of resting, not dropped.
+        so that it is let go of resting, not dropped. ``headroom``: at most this far (m) above
+        ``point`` before it is lowered (under a counter, a tall object has little room).
         """
         self.note(f"place {'LR'[side]}")
         _, rotation = self.hand_pose(side)
@@ -283,7 +285,8 @@ class GraspingExpert(Expert):
         )
         if holding and (level or orientation is not None):  # straighten it, as a person does
             rotation = self.turned_rotation(side, body, orientation)
-        above = point + np.array([0.0, 0.0, PRE_GRASP_HEIGHT * 0.8 + abs(self.human.jitter(0.02))])
+        rise = PRE_GRASP_HEIGHT * 0.8 + abs(self.human.jitter(0.02))
+        above = point + np.array([0.0, 0.0, rise if headroom is None else min(rise, headroom)])
         if holding:
             above = above + self.held_offset(side, body)
         end = self.move_hand(side, above, rotation, HOLD, correct=True, precision=0.02)
