@@ -20,8 +20,6 @@ where it stands, how high the mug is lifted, the timing, and every path's via-po
 
 from __future__ import annotations
 
-from typing import ClassVar
-
 import numpy as np
 
 from bigym.experts.expert import ARM_ACTIVE_COST, LEFT, RIGHT, SIDE_NAMES, HandReference, Script
@@ -58,7 +56,6 @@ class FlipCupExpert(GraspingExpert):
     """Turns the mug of ``FlipCup`` upright by its handle."""
 
     tasks = ("FlipCup",)
-    pace: ClassVar[dict[str, float]] = {}
 
     def plan(self) -> Script:
         handle = self.site(MUG, "handle")
