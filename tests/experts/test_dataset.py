@@ -100,11 +100,12 @@ def test_generate_command_fills_a_store_and_stats_measures_it(tmp_path):
 
 
 def test_generate_and_stats_fail_clearly(tmp_path):
-    result = run("generate", "FlipCup", "-n", 1, "--store", tmp_path / "s")
-    assert result.exit_code == 1 and "no expert for FlipCup" in result.output
+    result = run("generate", "PutCups", "-n", 1, "--store", tmp_path / "s")
+    assert result.exit_code == 1 and "no expert for PutCups" in result.output
     result = run("generate", "NoSuchTask", "--store", tmp_path / "s")
     assert result.exit_code == 1 and "unknown task" in result.output
-    result = run("stats", "FlipCup", "--store", tmp_path / "empty")  # no shipped demos to build
+    # an expert, but no shipped demos to build
+    result = run("stats", "StoreGroceriesLower", "--store", tmp_path / "empty")
     assert result.exit_code == 1 and "--source fresh" in result.output
     result = run("stats", "ReachTargetSingle", "-n", 2, "--store", tmp_path / "empty")  # built on demand
     assert result.exit_code == 0 and "building its 50 files" in result.output, result.output
