@@ -64,8 +64,6 @@ HOB_TILT = 0.15
 HOB_OPENING = 0.45
 #: a pan is lifted this far (m) off the shelf before it is drawn out
 SHELF_LIFT = 0.03
-#: the door opens to its stop: the push aims only this far (normalised) past it
-DOOR_PUSH_PAST = 0.03
 #: how often the pot on the front burner is taken first
 FRONT_FIRST = 0.8
 #: how high (m) a pot is lifted off the hob
@@ -105,14 +103,7 @@ class CookwareExpert(GraspingExpert, DoorSkills):
 
     def plan(self) -> Script:
         yield from self.wait(self.human.reaction())
-        door_side = self.door_side(CABINET, DOOR)
-        self.choices["hands"] = [f"{CABINET}/{DOOR}:{SIDE_NAMES[door_side]}"]
-        yield from self.door(door_side, CABINET, DOOR, 1.0, push_past=DOOR_PUSH_PAST)
-        self.keep_clear_of_open_door(CABINET, DOOR)
-        # the door hand comes back to the body before anything else moves
-        end = self.time + 2.0
-        while self.hands[door_side] is not None and self.time < end:
-            yield
+        yield from self.open_cabinet_door(CABINET, DOOR)
         if self.env.task_name == "SaucepanToHob":
             yield from self.saucepan_to_hob()
         else:

@@ -12,7 +12,7 @@ from __future__ import annotations
 import mujoco
 import numpy as np
 
-from bigym.experts.expert import FIRM, LEFT, RIGHT, Expert, Script
+from bigym.experts.expert import FIRM, LEFT, RIGHT, SIDE_NAMES, Expert, Script
 
 #: a joint this close to its goal is done (the tasks' tolerance is 0.1)
 DONE_MARGIN = 0.06
@@ -21,6 +21,11 @@ OVERSHOOT = 0.04
 #: a base-cabinet door's width (m) and how far (m) the pelvis keeps out of its sweep
 DOOR_WIDTH = 0.6
 SWEEP_CLEARANCE = 0.25
+#: a base-cabinet door opens to its stop: the push aims only this far (normalised) past it
+#: (an arm pressing on against a stopped door strains)
+DOOR_PUSH_PAST = 0.03
+#: how long (s) at most the plan waits for the door hand to come back to the body
+HAND_BACK = 2.0
 #: how far (m) the pelvis keeps inside an open base-cabinet door's plane (the torso and
 #: the other arm)
 DOOR_CLEARANCE = 0.36
@@ -30,6 +35,20 @@ HANDLE_ALIGN = np.array([1.5, 0.8, 2.0])
 
 class DoorSkills(Expert):
     """An :class:`Expert` that opens and closes hinged doors of furniture props."""
+
+    def open_cabinet_door(self, prop: str, key: str, keep_clear: bool = True) -> Script:
+        """Open a base cabinet's door to its stop with the hand on its free-edge side (noted
+        as the first of the demo's ``hands``), and wait until that hand is back at the body
+        before anything else moves; with ``keep_clear`` the body then keeps out of the open
+        door (:meth:`keep_clear_of_open_door`)."""
+        side = self.door_side(prop, key)
+        self.choices["hands"] = [f"{prop}/{key}:{SIDE_NAMES[side]}"]
+        yield from self.door(side, prop, key, 1.0, push_past=DOOR_PUSH_PAST)
+        if keep_clear:
+            self.keep_clear_of_open_door(prop, key)
+        end = self.time + HAND_BACK
+        while self.hands[side] is not None and self.time < end:
+            yield
 
     def door_side(self, prop: str, key: str) -> int:
         """The hand on the door's free-edge side is the natural one for a base-cabinet door."""

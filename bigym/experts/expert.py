@@ -288,6 +288,13 @@ class Expert:
         p = self.env.props[prop]
         return JointMotion(self.model, self.data, int(p.joint_ids[p.joint_index(key)]))
 
+    def hand_on_side(self, lateral: float, softness: float) -> int:
+        """The hand a person uses for something ``lateral`` metres to the left (negative:
+        right) of their middle: left with a probability rising smoothly with it (one draw),
+        so that things near the middle are taken with either."""
+        p_left = 1.0 / (1.0 + np.exp(-lateral / softness))
+        return LEFT if self.rng.random() < p_left else RIGHT
+
     def note(self, event: str) -> None:
         """Log a phase of the demo (time, text): for debugging and statistics."""
         self.events.append((round(self.time, 3), event))

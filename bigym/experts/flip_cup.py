@@ -61,8 +61,7 @@ class FlipCupExpert(GraspingExpert):
         handle = self.site(MUG, "handle")
         base = self.base_pose()
         lateral = float(-np.sin(base[3]) * (handle[0] - base[0]) + np.cos(base[3]) * (handle[1] - base[1]))
-        p_left = 1.0 / (1.0 + np.exp(-lateral / HAND_CHOICE_SOFTNESS))
-        side = LEFT if self.rng.random() < p_left else RIGHT
+        side = self.hand_on_side(lateral, HAND_CHOICE_SOFTNESS)
         # the roll's direction, which end of its range the wrist starts at: either for the
         # right hand; the left one's mirror of the second (wrist at +WRIST_START) took the
         # handle in a contorted posture and dropped it in trials, so the left rolls one way
@@ -74,8 +73,7 @@ class FlipCupExpert(GraspingExpert):
         yield from self.take_handle(side, start)
         yield from self.turn_over(side, start)
         yield from self.set_down(side)
-        yield from self.release(side, back=0.08, up=0.04)
-        self.relax_arm(side)
+        yield from self.release(side, back=0.08, up=0.04, relax=True)
         while True:
             yield
 

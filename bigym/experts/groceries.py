@@ -56,8 +56,6 @@ SHELF_TOP = 0.48
 SHELF_X = 0.8
 #: where on the shelf (y) the items go, left to right
 SHELF_SPOTS = (0.19, 0.065, -0.065, -0.19)
-#: the door opens to its stop: the push aims only this far (normalised) past it
-DOOR_PUSH_PAST = 0.03
 #: pelvis height (m) at the counter: the forearm about level with the items' lower parts
 COUNTER_CROUCH = 0.8
 #: how far (m) above an item's base the fingers close (low: the item stands in the hand
@@ -85,15 +83,9 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
     pace: ClassVar[dict[str, float]] = {"StoreGroceriesLower": 1.2}
 
     def plan(self) -> Script:
-        env = self.env
         yield from self.wait(self.human.reaction())
         door_side = self.door_side(CUPBOARD, DOOR)
-        self.choices["hands"] = [f"{CUPBOARD}/{DOOR}:{SIDE_NAMES[door_side]}"]
-        yield from self.door(door_side, CUPBOARD, DOOR, 1.0, push_past=DOOR_PUSH_PAST)
-        self.keep_clear_of_open_door(CUPBOARD, DOOR)
-        end = self.time + 2.0
-        while self.hands[door_side] is not None and self.time < end:
-            yield
+        yield from self.open_cabinet_door(CUPBOARD, DOOR)
         yield from self.until(self.relax_arm(door_side, joint_space=True))
         order = self.item_order()
         self.choices["order"] = order
@@ -118,12 +110,11 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         """The fingers' closing direction (and how far the body turns for it): across a
         box's narrow faces, any way round a round item (the hand's comfortable one)."""
         prop = self.env.props[item]
-        frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
-        yaw = float(np.arctan2(frame[1, 0], frame[0, 0]))
         narrow = _narrow_axis_yaw(prop)
         if narrow is None:
             return self.face_closing(side, self.base_pose()[3], faces=8)
-        return self.face_closing(side, yaw + narrow, faces=2)
+        frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
+        return self.face_closing(side, float(np.arctan2(frame[1, 0], frame[0, 0])) + narrow, faces=2)
 
     def item_height(self, item: str) -> float:
         """Height (m) of an item's colliders above its base."""
@@ -185,7 +176,10 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         base = self.commanded_base()
         self.note(f"back off with {item}")
         back = base.copy()
-        back[0] = min(base[0], 2.0 * FRONT - 0.31 - float(self.data.xpos[body][0])) - abs(self.human.jitter(0.02))
+        # as far behind a mark 0.25 m out from the cupboard as the item's far side (0.06 past
+        # its origin) is in past the cupboard's front
+        jut = float(self.data.xpos[body][0]) + 0.06 - FRONT
+        back[0] = min(base[0], FRONT - 0.25 - jut) - abs(self.human.jitter(0.02))
         yield from self.walk([back], carrying=[side])
         # the item's base and top share the room under the counter
         room = COUNTER_UNDERSIDE - SHELF_TOP - self.item_height(item)
@@ -208,8 +202,8 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         inside[3] = self.human.jitter(0.05)  # square to the cupboard
         self.note("in")
         yield from self.walk([self.clamp_to_region(inside)], carrying=[side])
-        headroom = COUNTER_UNDERSIDE - SHELF_TOP - self.item_height(item) - 0.01
-        yield from self.place(side, spot, prop=item, level=True, tip_down=0.05, headroom=max(headroom, 0.01))
+        # not raised into the counter before it is lowered
+        yield from self.place(side, spot, prop=item, level=True, tip_down=0.05, headroom=max(room - 0.01, 0.01))
         p, r = self.hand_pose(side)
         out = np.array([FRONT - 0.12, p[1], min(p[2], COUNTER_UNDERSIDE - 0.15)])
         yield from self.until(self.move_hand(side, out, r, FREE, spread=0.2, precision=0.05))

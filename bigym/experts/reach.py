@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from bigym.experts.expert import LEFT, RIGHT, SIDE_INDEX, SIDE_NAMES, Expert, Script
+from bigym.experts.expert import SIDE_INDEX, SIDE_NAMES, Expert, Script
 from bigym.experts.geometry import yaw_matrix
 
 #: comfortable forward reach of the wrist from the pelvis (m); beyond it the robot steps
@@ -24,11 +24,6 @@ class ReachExpert(Expert):
 
     tasks = ("ReachTargetSingle", "ReachTargetMultiModal", "ReachTargetDual")
 
-    def choose_hand(self, target_local: np.ndarray) -> int:
-        """Left with probability rising smoothly with the target's lateral offset."""
-        p_left = 1.0 / (1.0 + np.exp(-target_local[1] / HAND_CHOICE_SOFTNESS))
-        return LEFT if self.rng.random() < p_left else RIGHT
-
     def plan(self) -> Script:
         env = self.env
         base = self.base_pose()
@@ -36,7 +31,7 @@ class ReachExpert(Expert):
         goals: list[tuple[int, np.ndarray]] = []
         for target, hand in zip(env.target_positions.copy(), env.target_hands):
             local = to_local @ (target - np.array([base[0], base[1], 0.0]))
-            side = self.choose_hand(local) if hand == "any" else SIDE_INDEX[hand]
+            side = self.hand_on_side(local[1], HAND_CHOICE_SOFTNESS) if hand == "any" else SIDE_INDEX[hand]
             goals.append((side, target))
         self.choices["hands"] = [SIDE_NAMES[s] for s, _ in goals]
         yield from self.wait(self.human.reaction())

@@ -37,14 +37,12 @@ from bigym.experts.boxes import (
     BoxExpert,
 )
 from bigym.experts.doors import DoorSkills
-from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
+from bigym.experts.expert import LEFT, RIGHT, Script
 from bigym.experts.grasping import LOWER_SPEED, from_base
 from bigym.robot.h1 import STANDING_HEIGHT
 
 CABINET = "cabinet"
 DOOR = "door_left"
-#: the door opens to its stop: the push aims only this far (normalised) past it
-DOOR_PUSH_PAST = 0.03
 #: how far (m) the pelvis keeps inside the open door's hinge (the torso and the right arm)
 DOOR_CLEARANCE = 0.40
 #: the counter's front (x); the shelf's front (x) and top (z)
@@ -89,12 +87,8 @@ class StoreBoxExpert(BoxExpert, DoorSkills):
 
     def plan(self) -> Script:
         yield from self.wait(self.human.reaction())
-        door_side = self.door_side(CABINET, DOOR)
-        self.choices["hands"] = [f"{CABINET}/{DOOR}:{SIDE_NAMES[door_side]}"]
-        yield from self.door(door_side, CABINET, DOOR, 1.0, push_past=DOOR_PUSH_PAST)
-        end = self.time + 2.0  # the door hand comes back to the body first
-        while self.hands[door_side] is not None and self.time < end:
-            yield
+        # its own keep-out (:meth:`stance_y`): the box is wider than the body
+        yield from self.open_cabinet_door(CABINET, DOOR, keep_clear=False)
         yield from self.store_box()
         while True:
             yield
