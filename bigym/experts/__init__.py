@@ -17,7 +17,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks`,
 :mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware`,
 :mod:`~bigym.experts.boxes`, :mod:`~bigym.experts.store_box`,
-:mod:`~bigym.experts.flip_cup`, :mod:`~bigym.experts.groceries` (the task scripts),
+:mod:`~bigym.experts.flip_cup`, :mod:`~bigym.experts.flip_cutlery`,
+:mod:`~bigym.experts.groceries` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -58,6 +59,7 @@ EXPERTS: dict[str, str] = {
     "PickBox": "bigym.experts.boxes:BoxExpert",
     "StoreBox": "bigym.experts.store_box:StoreBoxExpert",
     "FlipCup": "bigym.experts.flip_cup:FlipCupExpert",
+    "FlipCutlery": "bigym.experts.flip_cutlery:FlipCutleryExpert",
     "StoreGroceriesLower": "bigym.experts.groceries:GroceriesExpert",
 }
 

@@ -52,6 +52,7 @@ DATASET_TASKS = (
     "PickBox",
     "StoreBox",
     "FlipCup",
+    "FlipCutlery",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

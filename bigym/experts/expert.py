@@ -101,6 +101,10 @@ class Expert:
     pace: ClassVar[dict[str, float]] = {}
     #: the expert plans from the simulator state (env.data), not from observations
     reads_simulator: ClassVar[bool] = True
+    #: objects the demonstrator lets fall the last few centimetres into place, by name:
+    #: the fastest fall (m/s down) that is not a dropped object (default
+    #: :data:`bigym.experts.incidents.DROP_SPEED`)
+    drop_speeds: ClassVar[dict[str, float]] = {}
 
     def __init__(self, env, seed: int | None = None, style: HumanStyle | None = None, ik_rate: float = 100.0) -> None:
         self.env = env.unwrapped

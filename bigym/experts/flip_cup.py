@@ -81,22 +81,28 @@ class FlipCupExpert(GraspingExpert):
     def take_handle(self, side: int, wrist: float) -> Script:
         """Crouch in front of the mug and take its handle's bar, the hand already turned
         to one end of the wrist's range."""
-        mug = self.env.props[MUG]
         handle = self.site(MUG, "handle")
-        centre = self.data.xpos[mug.root_body_id].copy()
+        approach = self.data.xpos[self.env.props[MUG].root_body_id] - handle  # towards the mug's axis
+        approach[2] = 0.0
+        approach /= np.linalg.norm(approach)
+        yield from self.take_bar(side, wrist, handle, np.array([0.0, 0.0, 1.0]), approach, CROUCH)
+
+    def take_bar(
+        self, side: int, wrist: float, point: np.ndarray, line: np.ndarray, approach: np.ndarray, crouch: float
+    ) -> Script:
+        """Crouch in front of the counter, ``side``'s shoulder beside ``point``, and take the
+        bar through ``point`` along ``line`` (either way), the hand coming in along the
+        horizontal ``approach`` with the wrist already at ``wrist``, one end of its range."""
         shift = SHOULDER_OFFSET if side == LEFT else -SHOULDER_OFFSET
         stance = np.array(
             [
                 COUNTER_FRONT - TABLE_CLEARANCE - 0.16 - abs(self.human.jitter(0.02)),
-                handle[1] - shift + self.human.jitter(0.03),
-                CROUCH + self.human.jitter(0.02),
+                point[1] - shift + self.human.jitter(0.03),
+                crouch + self.human.jitter(0.02),
                 self.human.jitter(0.05),
             ]
         )
         self.move_base(stance)
-        approach = centre - handle  # from the handle towards the mug's axis
-        approach[2] = 0.0
-        approach /= np.linalg.norm(approach)
         mirror = 1.0 if side == LEFT else -1.0
         posture = np.array(
             [TURNED_ARM[j] * (mirror if j in ("shoulder_roll", "shoulder_yaw") else 1.0) for j in ARM_JOINTS[:-1]]
@@ -104,9 +110,10 @@ class FlipCupExpert(GraspingExpert):
         )
         cost = np.array([TURNED_ARM_COST.get(j, ARM_ACTIVE_COST) for j in ARM_JOINTS[:-1]] + [WRIST_START_COST])
         self.arm_posture[side] = (posture, cost)
-        bar = self.bar_direction(side, wrist)
-        yield from self.grasp_bar(side, handle, bar, approach, depth=0.0, close=False, keep_sign=True)
-        yield from self.settle(side, handle, 0.008, 0.5)
+        bar = np.asarray(line, float) / np.linalg.norm(line)
+        bar = bar * np.sign(bar[2]) * np.sign(self.bar_direction(side, wrist)[2])
+        yield from self.grasp_bar(side, point, bar, approach, depth=0.0, close=False, keep_sign=True)
+        yield from self.settle(side, point, 0.008, 0.5)
         yield from self.set_grip(side, 1.0)
         self.arm_posture[side] = None
 

@@ -186,7 +186,7 @@ def record_attempt(
         expert = make_expert(env, seed=seed, style=human_style)
     else:
         expert = expert_class(env, seed=seed, style=human_style)
-    watch = IncidentWatch(env)
+    watch = IncidentWatch(env, expert.drop_speeds)
     after = None
     info: dict = {}
     for _ in range(env.unwrapped.max_episode_steps + round(AFTER_SUCCESS * CONTROL_FREQUENCY)):

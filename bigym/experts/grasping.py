@@ -222,13 +222,14 @@ class GraspingExpert(Expert):
             self._not_robot = model.body_rootid[model.geom_bodyid] != robot_root
         return self.env.touching(self.env.mask(prop), self._not_robot)
 
-    def hand_to_hip(self, side: int) -> float:
-        """Bring a free hand beside the hip, where it stays as the body moves; returns the
-        end time."""
+    def hand_to_hip(self, side: int, wider: float = 0.0) -> float:
+        """Bring a free hand beside the hip (``wider``: this much further out, m), where it
+        stays as the body moves; returns the end time."""
         base = self.commanded_base()
         p, r = self.hand_pose(side)
         local_p, local_r = to_base(base, p, r)
-        goal = HAND_AT_HIP * np.array([1.0, 1.0 if side == LEFT else -1.0, 1.0]) + self.human.jitter(0.02, 3)
+        hip = HAND_AT_HIP + np.array([0.0, wider, 0.0])
+        goal = hip * np.array([1.0, 1.0 if side == LEFT else -1.0, 1.0]) + self.human.jitter(0.02, 3)
         duration = self.human.duration(float(np.linalg.norm(goal - local_p)), 0.05)
         path = self.human.path([local_p, goal], duration)
         t0 = self.time

@@ -4,7 +4,9 @@ A demo in which an object was dropped, or pushed into a surface, teaches the wro
 however the episode ends: the generator watches every step and rejects such demos.
 
 * dropped: a free object falls faster than ``DROP_SPEED`` (a fall of about 3 cm from
-  rest; an object let go just above where it rests never gets there);
+  rest; an object let go just above where it rests never gets there), or than its own
+  limit where the demonstrator lets it fall into place on purpose (a spoon let go into a
+  mug: the fingers cannot follow it in);
 * pushed through a surface: a contact of a free object penetrates deeper than
   ``MAX_PENETRATION`` (grasped objects stay under 1 mm).
 """
@@ -20,11 +22,16 @@ MAX_PENETRATION = 0.006  # m
 class IncidentWatch:
     """Watches the free objects of a task env step by step; :meth:`check` names the first mishap."""
 
-    def __init__(self, env) -> None:
+    def __init__(self, env, drop_speeds: dict[str, float] | None = None) -> None:
         base = env.unwrapped
         self.env = base
         props = getattr(base, "_free_props", {})
         self.names = list(props)
+        drop_speeds = drop_speeds or {}
+        unknown = sorted(set(drop_speeds) - set(self.names))
+        if unknown:
+            raise ValueError(f"drop_speeds names {unknown}, not free objects of the task ({self.names})")
+        self.drop_speeds = np.array([drop_speeds.get(name, DROP_SPEED) for name in self.names])
         self.bodies = np.array([props[name].root_body_id for name in self.names], dtype=np.int64)
         owner = np.full(base.model.ngeom, -1, dtype=np.int64)
         for index, name in enumerate(self.names):
@@ -45,8 +52,8 @@ class IncidentWatch:
         incident = None
         if self._last_z is not None and data.time > self._last_time:
             speed = (z - self._last_z) / (data.time - self._last_time)
-            fastest = int(np.argmin(speed))
-            if speed[fastest] < -DROP_SPEED:
+            fastest = int(np.argmin(speed + self.drop_speeds))
+            if speed[fastest] < -self.drop_speeds[fastest]:
                 incident = f"{self.names[fastest]} dropped at t={data.time:.2f} s ({-speed[fastest]:.2f} m/s down)"
         self._last_z, self._last_time = z.copy(), float(data.time)
         if incident is None and data.ncon:

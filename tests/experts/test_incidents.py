@@ -66,3 +66,23 @@ def test_a_task_without_free_objects_has_nothing_to_watch():
         assert run(env, watch, 50) == []
     finally:
         env.close()
+
+
+def test_a_fall_within_the_objects_own_allowance_is_no_drop(blocks):
+    # a block let fall ~8 cm (about 1.25 m/s when it lands), as a spoon is let go into a mug
+    blocks.reset(seed=0)
+    x, y, z = blocks.data.xpos[blocks.props["block_2"].root_body_id]
+    blocks.props["block_2"].set_pose(blocks.data, (x, y, z + 0.08), (1.0, 0.0, 0.0, 0.0))
+    state = blocks.data.qpos.copy(), blocks.data.qvel.copy(), blocks.data.time
+    assert run(blocks, IncidentWatch(blocks), 250)[0].startswith("block_2 dropped at t=")
+    blocks.data.qpos[:], blocks.data.qvel[:], blocks.data.time = state
+    assert run(blocks, IncidentWatch(blocks, {"block_2": 1.6}), 250) == []
+    blocks.data.qpos[:], blocks.data.qvel[:], blocks.data.time = state
+    # the allowance is the named object's alone
+    blocks.props["block_3"].set_pose(blocks.data, (x + 0.2, y, z + 0.08), (1.0, 0.0, 0.0, 0.0))
+    assert run(blocks, IncidentWatch(blocks, {"block_2": 1.6}), 250)[0].startswith("block_3 dropped at t=")
+
+
+def test_an_allowance_for_an_object_the_task_lacks_is_refused(blocks):
+    with pytest.raises(ValueError, match="spoon"):
+        IncidentWatch(blocks, {"spoon": 1.6})
