@@ -20,6 +20,8 @@ timing, and every path's via-points.
 
 from __future__ import annotations
 
+from typing import ClassVar
+
 import numpy as np
 
 from bigym.experts.expert import LEFT, SIDE_NAMES, HandReference, Script
@@ -51,7 +53,7 @@ class FlipCutleryExpert(FlipCupExpert):
     tasks = ("FlipCutlery",)
     #: let go with its tip ~8 cm over the mug's bottom (the fingers stop at the rim), the
     #: spoon falls in and tips against the rim: its origin moves down at up to 1.5 m/s
-    drop_speeds = {SPOON: 1.6}
+    drop_speeds: ClassVar[dict[str, float]] = {SPOON: 1.6}
 
     def plan(self) -> Script:
         head = self.site(SPOON, "head")
