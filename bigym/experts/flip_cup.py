@@ -111,7 +111,8 @@ class FlipCupExpert(GraspingExpert):
         cost = np.array([TURNED_ARM_COST.get(j, ARM_ACTIVE_COST) for j in ARM_JOINTS[:-1]] + [WRIST_START_COST])
         self.arm_posture[side] = (posture, cost)
         bar = np.asarray(line, float) / np.linalg.norm(line)
-        bar = bar * np.sign(bar[2]) * np.sign(self.bar_direction(side, wrist)[2])
+        if bar @ self.bar_direction(side, wrist) < 0.0:
+            bar = -bar
         yield from self.grasp_bar(side, point, bar, approach, depth=0.0, close=False, keep_sign=True)
         yield from self.settle(side, point, 0.008, 0.5)
         yield from self.set_grip(side, 1.0)
@@ -126,26 +127,34 @@ class FlipCupExpert(GraspingExpert):
         """Lift the mug and roll the forearm half a turn in one movement, about the
         horizontal part of the hand's approach."""
         self.note(f"turn over {'LR'[side]}")
+        lift = LIFT + abs(self.human.jitter(0.02))
+        duration = self.human.duration(np.pi * 0.1 + lift, 0.02, minimum=0.9) * 1.3
+        yield from self.roll_over(side, wrist, np.array([0.0, 0.0, lift]), duration * 0.6, 0.0, duration)
+
+    def roll_over(
+        self, side: int, wrist: float, lift: np.ndarray, lift_time: float, roll_start: float, roll_time: float
+    ) -> Script:
+        """Move the hand by ``lift`` (m) over ``lift_time`` s and, from ``roll_start`` s on,
+        roll the forearm half a turn over ``roll_time`` s about the horizontal part of the
+        hand's approach: the wrist turns from ``wrist`` towards its other end (the arms are
+        mirror images)."""
         site = self.env.robot.pinch_site_ids[side]
         p0 = self.data.site_xpos[site].copy()
         r0 = self.data.site_xmat[site].reshape(3, 3).copy()
         axis = np.array([r0[0, 2], r0[1, 2], 0.0])
         axis /= np.linalg.norm(axis)
-        # the wrist turns from `wrist` towards its other end (the arms are mirror images)
         angle = -np.sign(wrist) * np.pi
-        lift = LIFT + abs(self.human.jitter(0.02))
-        duration = self.human.duration(np.pi * 0.1 + lift, 0.02, minimum=0.9) * 1.3
-        position = self.human.path([p0, p0 + np.array([0.0, 0.0, lift])], duration * 0.6)
+        position = self.human.path([p0, p0 + lift], lift_time)
         t0 = self.time
         profile = self.human.profile
 
         def rotation(t: float) -> np.ndarray:
-            return axis_angle_matrix(axis, angle * profile((t - t0) / duration)) @ r0
+            return axis_angle_matrix(axis, angle * profile((t - t0 - roll_start) / roll_time)) @ r0
 
         self.hands[side] = HandReference(
-            lambda t: position(min(max(t - t0, 0.0), duration * 0.6)), rotation, HOLD, tremor=0.3
+            lambda t: position(min(max(t - t0, 0.0), lift_time)), rotation, HOLD, tremor=0.3
         )
-        yield from self.until(t0 + duration)
+        yield from self.until(t0 + roll_start + roll_time)
         self.hold_hand(side, HOLD, tremor=0.3)
 
     def set_down(self, side: int) -> Script:

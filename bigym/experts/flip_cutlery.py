@@ -24,7 +24,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.expert import LEFT, SIDE_NAMES, HandReference, Script
+from bigym.experts.expert import LEFT, SIDE_NAMES, Script
 from bigym.experts.flip_cup import WRIST_START, FlipCupExpert
 from bigym.experts.geometry import aligning_rotation, axis_angle_matrix
 from bigym.experts.grasping import HOLD
@@ -33,7 +33,7 @@ MUG = "mug"
 SPOON = "spoon"
 #: pelvis height (m) while taking the spoon: the forearm about level with the bowl
 CROUCH = 0.85
-#: how high (m) the pinch goes up before the roll: the handle's end leaves the mug
+#: how far (m) the spoon is drawn out along its line: the handle's end leaves the mug
 LIFT = 0.17
 #: how high (m) above the mug's rim the bowl's middle is held before it goes in
 OVER_RIM = 0.05
@@ -90,34 +90,14 @@ class FlipCutleryExpert(FlipCupExpert):
         yield from self.take_bar(side, wrist, head, self.spoon_axis(), approach, CROUCH)
 
     def turn_spoon(self, side: int, wrist: float) -> Script:
-        """Draw the spoon out of the mug, then roll the forearm half a turn about the
-        horizontal part of the approach: the bowl comes down."""
+        """Draw the spoon out of the mug along its own line (straight up, its handle would
+        drag on the mug), then roll the forearm half a turn: the bowl comes down."""
         self.note(f"turn over {'LR'[side]}")
-        site = self.env.robot.pinch_site_ids[side]
-        p0 = self.data.site_xpos[site].copy()
-        r0 = self.data.site_xmat[site].reshape(3, 3).copy()
-        axis = np.array([r0[0, 2], r0[1, 2], 0.0])
-        axis /= np.linalg.norm(axis)
-        angle = -np.sign(wrist) * np.pi
         lift = LIFT + abs(self.human.jitter(0.02))
         lift_time = self.human.duration(lift, 0.01, minimum=0.6)
         roll_time = self.human.duration(np.pi * 0.1, 0.01, minimum=0.9) * 1.3
         # the roll starts once the handle's end is nearly out of the mug
-        roll_start = lift_time * 0.8
-        # out along the spoon's own line, so that its handle does not drag on the mug
-        position = self.human.path([p0, p0 + self.spoon_axis() * lift], lift_time)
-        t0 = self.time
-        profile = self.human.profile
-
-        def rotation(t: float) -> np.ndarray:
-            u = min(max((t - t0 - roll_start) / roll_time, 0.0), 1.0)
-            return axis_angle_matrix(axis, angle * profile(u)) @ r0
-
-        self.hands[side] = HandReference(
-            lambda t: position(min(max(t - t0, 0.0), lift_time)), rotation, HOLD, tremor=0.3
-        )
-        yield from self.until(t0 + roll_start + roll_time)
-        self.hold_hand(side, HOLD, tremor=0.3)
+        yield from self.roll_over(side, wrist, self.spoon_axis() * lift, lift_time, lift_time * 0.8, roll_time)
 
     def put_back(self, side: int) -> Script:
         """Stand the spoon upright over the mug, lower it bowl first into the mug until the

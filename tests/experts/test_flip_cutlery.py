@@ -28,17 +28,17 @@ def test_the_spoon_is_bowl_down_in_the_hand_over_the_mug_before_it_is_let_go(env
     expert = FlipCutleryExpert(env, seed=0)
     axis = env.data.xmat[env.props[SPOON].root_body_id].reshape(3, 3)[:, 1]  # handle to bowl
     bowl_up_at_start = float(axis[2])
-    lowest_bowl_down_while_held = None
+    bowl_down_while_held = None
     for _ in range(env.max_episode_steps):
         obs, *_ = env.step(expert(obs))
         if expert.events and expert.events[-1][1].startswith("grip") and expert.events[-1][1].endswith(" 0"):
             break  # the fingers open: what came before was done in the hand
         if env.held(SPOON) and axis[2] < -0.9:
-            lowest_bowl_down_while_held = float(axis[2])
+            bowl_down_while_held = float(axis[2])
     else:
         pytest.fail(f"the expert never let the spoon go: {expert.events}")
     assert bowl_up_at_start > 0.85  # it started bowl up in the mug
-    assert lowest_bowl_down_while_held is not None, "the spoon was never held bowl down"
+    assert bowl_down_while_held is not None, "the spoon was never held bowl down"
     head = env.data.site_xpos[env.props[SPOON].site_id("head")]
     inside = env.data.site_xpos[env.props["mug"].site_id("inside")]
     assert np.linalg.norm(head[:2] - inside[:2]) < 0.03  # let go over the mug's middle
