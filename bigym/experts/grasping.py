@@ -81,18 +81,24 @@ class GraspingExpert(Expert):
         super().start()
 
     # ------------------------------------------------------------------ geometry
-    def grasp_rotation(self, side: int, closing: np.ndarray, tilt: float = GRASP_TILT) -> np.ndarray:
+    def grasp_rotation(
+        self, side: int, closing: np.ndarray, tilt: float = GRASP_TILT, upright: bool = False
+    ) -> np.ndarray:
         """Pinch frame closing along ``closing`` (made horizontal; the sign that turns the
-        wrist least) and approaching from the body's side, ``tilt`` rad below horizontal."""
+        wrist least, or with ``upright`` the one that keeps the hand's back up, for a hand
+        that comes in nearly level) and approaching from the body's side, ``tilt`` rad
+        below horizontal."""
         y = np.array([closing[0], closing[1], 0.0])
         y /= np.linalg.norm(y)
-        _, current = self.hand_pose(side)
-        if current[:, 1] @ y < 0.0:
-            y = -y
         forward = yaw_matrix(self.base_pose()[3]) @ np.array([1.0, 0.0, 0.0])
         ahead = forward - (forward @ y) * y
         ahead /= np.linalg.norm(ahead)
         approach = np.cos(tilt) * ahead + np.sin(tilt) * DOWN
+        if upright:
+            if np.cross(y, approach)[2] > 0.0:
+                y = -y
+        elif self.hand_pose(side)[1][:, 1] @ y < 0.0:
+            y = -y
         return frame_from_axes(np.cross(y, approach), approach)
 
     def face_closing(
@@ -127,6 +133,8 @@ class GraspingExpert(Expert):
         opening: float = 0.0,
         tilt: float = GRASP_TILT,
         cost: np.ndarray = GRASP,
+        thin: bool = True,
+        upright: bool = False,
     ) -> Generator[None, None, bool]:
         """Take an object from above and lift it ``lift`` metres; ``aim()`` gives the pinch
         point and the closing direction from the object as it lies now. A grasp that
@@ -136,11 +144,13 @@ class GraspingExpert(Expert):
         fingers close almost fully on them), when the task sees it held. ``opening``
         half-closes the fingers on the way in (0 = wide open), for an object with a
         neighbour close beside it. ``tilt`` and ``cost``: how steeply the hand comes down and
-        how firmly the IK keeps its orientation (see :data:`GRASP`). Returns whether it holds."""
+        how firmly the IK keeps its orientation (see :data:`GRASP`). ``thin`` False: the
+        named object is thick, so fingers closed almost fully hold nothing even if one
+        touches it. ``upright``: see :meth:`grasp_rotation`. Returns whether it holds."""
         for attempt in range(attempts):
             self.note(f"pick {'LR'[side]}" + (f" again ({attempt})" if attempt else ""))
             point, closing = aim()
-            rotation = self.grasp_rotation(side, closing, tilt)
+            rotation = self.grasp_rotation(side, closing, tilt, upright)
             approach = rotation[:, 2]
             above = point - approach * (PRE_GRASP_HEIGHT + abs(self.human.jitter(0.02)))
             self.grip[side] = opening
@@ -161,10 +171,11 @@ class GraspingExpert(Expert):
             if prop is not None:  # a thin object is taken only once the fingers are round it
                 yield from self.settle(side, point, SETTLE_DISTANCE, MAX_SETTLE)
             yield from self.set_grip(side, 1.0, max_wait=0.8, min_wait=0.35)
+            closed_on_something = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
             if prop is None:
-                holds = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
+                holds = closed_on_something
             else:
-                holds = self.env.held(prop)
+                holds = self.env.held(prop) and (thin or closed_on_something)
             goal = (point if holds else self.hand_pose(side)[0]) + np.array([0.0, 0.0, lift if holds else 0.06])
             if holds:  # from now on the hand keeps the orientation it grasped with: the object turns with it
                 rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()

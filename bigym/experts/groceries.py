@@ -4,31 +4,37 @@ into the cupboard under it (``StoreGroceriesLower``).
 What a person does: opens the cupboard's door (pulls the handle, pushes the door round)
 and keeps clear of it; then, one item at a time, steps up to the counter with both hands
 at the hips, takes the item round its body (the fingers closing across it, or across a
-box's narrow faces) a little above its base, lifts it, backs away until it is clear of
-the counter, crouches until it hangs just above the middle shelf, steps across in front
-of its place, carries it in under the counter, puts it down and draws the hand out.
+box's narrow faces; a long box near its end, as far in as the fingers reach) a little
+above its base, lifts it, backs away until it is clear of the counter, crouches until it
+hangs just above the middle shelf, steps across in front of its place, carries it in
+under the counter, puts it down, draws the hand out and steps back as it rises.
 
 The middle shelf takes the four items side by side, in the order they are taken: the
 left hand fills the left half of the shelf, the right hand the right half (a hand
 reaching across the body into the low cupboard turns the item over). The open door keeps
 the body from stepping as far left as the right hand's places need: that hand carries its
-item across in front of the cupboard before going in. Under the counter a tall item is
-not raised above its place before it is lowered (its top would touch the counter, which
-the hand would take for the shelf).
+item across in front of the cupboard before going in, and an item too far left for the
+right hand to be taken from beside it goes to the left hand. Under the counter a tall
+item is not raised above its place before it is lowered (its top would touch the counter,
+which the hand would take for the shelf).
 
 Why the hands go to the hips before the body moves: crouched at the counter, a hand held
-in front of the belly would be inside the counter. Why the door arm is relaxed in joint
-space after the door: pushing the door round leaves the arm in a turned-over posture from
-which the IK reaches the next item with the elbow up.
+in front of the belly would be inside the counter. Why the body steps back as it rises
+from the cupboard: the hand that comes out from under the counter is in front of the
+belly, and on its way to the hip it brushed the torso (such contacts make replays at
+other rates part from the recording). Why the door arm is relaxed in joint space after
+the door: pushing the door round leaves the arm in a turned-over posture from which the
+IK reaches the next item with the elbow up.
 
-Known limits, on seeds 0-19 recorded and replayed at 500, 50, 25 and 20 Hz as the dataset
-does (6 verified): 9 of the 14 failures draw the cereal box, which no episode stored. It is
-0.19 m long and 0.24 m tall: held across its narrow faces it sticks out 0.1 m ahead of
-and behind the fingers and fills most of the 0.35 m under the counter; it was pushed into
-the counter or the shelf, dropped, or not in by the time limit (taken by its top edge
-instead, it hung 20-30 degrees tilted). Three seeds pass at 500 Hz but their 25 or 50 Hz
-replays part from the recording while the hand pushes the door round (the arm's joints
-differ by 0.2-0.6 rad). So the task is not in the dataset yet.
+Known limits (dataset v2's build record has the figures per failure reason): the items
+stand 0.1-0.3 m in on the counter, at the edge of the crouched arm's reach, so a grasp
+can land 3-4 cm off and push or tip the item. The cereal box (0.07 x 0.19 x 0.24 m) is
+the hardest: held near its end across its narrow faces, it turns in the fingers when the
+body moves, and it fills most of the 0.35 m under the counter, so it was dropped, pushed
+into the shelf or the counter, or its grasp missed, in most seeds that draw it. The
+detergent jug (1 kg, 0.26 m tall) was squeezed out of a grasp on its edge. Some replays
+at 25 or 50 Hz part from the recording while the hand pushes the door round (the arm's
+joints differ by 0.2-0.6 rad).
 
 Choices drawn per demo: the order of the items (mostly nearest the cupboard first), and
 with it the hand and the place on the shelf of each; where the body stands, how high the
@@ -44,6 +50,7 @@ import numpy as np
 
 from bigym.experts.doors import DoorSkills
 from bigym.experts.expert import FREE, LEFT, RIGHT, SIDE_NAMES, Script
+from bigym.experts.geometry import yaw_matrix
 from bigym.experts.grasping import HOLD, TABLE_CLEARANCE, GraspingExpert
 
 CUPBOARD = "cabinet_1"
@@ -63,6 +70,9 @@ COUNTER_CROUCH = 0.8
 GRIP_HEIGHT = 0.07
 #: how steeply (rad below the horizontal) the hand comes at an item
 GRIP_TILT = 0.2
+#: how far (m) past an item's near face the pinch point goes: a long box is taken near its
+#: end, since the fingers reach no further into it
+GRIP_DEPTH = 0.05
 #: how far (m) the item is lifted off the counter
 LIFT = 0.06
 #: how far (m) the pelvis stays behind the pinch point when reaching into the cupboard
@@ -72,6 +82,16 @@ FRONT_CLEARANCE = 0.14
 #: least and most clearance (m) under an item carried in (the room under the counter is
 #: shared between its base and its top)
 ENTRY_CLEARANCE = (0.015, 0.06)
+#: how far (m) the body steps back as it rises from the cupboard
+STEP_BACK = 0.12
+#: how much further out (m) than usual each hand (left, right) goes to the hip: the right
+#: hand, coming from in front of the belly, brushed the torso (such contacts part replays
+#: at other rates); the left has the open door beside it
+HIP_WIDER = (0.0, 0.07)
+#: how far (m) left of the pelvis the left hand takes an item (the right hand: right of it)
+HAND_OFFSET = 0.2
+#: how far (m) the open door may push the body from where the right hand would take an item
+STANCE_SLACK = 0.06
 #: how often two neighbouring items in the nearest-first order are taken the other way round
 SWAP = 0.3
 
@@ -99,12 +119,28 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
 
     # ------------------------------------------------------------------ choices
     def item_order(self) -> list[str]:
-        """Nearest the cupboard first (largest y), with neighbours sometimes swapped."""
-        order = sorted(self.env.chosen, key=lambda n: -self.data.xpos[self.env.props[n].root_body_id][1])
+        """Nearest the cupboard first (largest y), with neighbours sometimes swapped; the
+        first half goes to the left hand. An item the right hand cannot stand beside (the
+        open door keeps the body right of it) goes to the left hand instead."""
+        order = sorted(self.env.chosen, key=lambda n: -self.item_y(n))
         for i in range(len(order) - 1):
             if self.rng.random() < SWAP:
                 order[i], order[i + 1] = order[i + 1], order[i]
+        half = (len(order) + 1) // 2
+        for i in range(half, len(order)):
+            if not self.right_hand_reaches(order[i]):
+                j = min(range(half), key=lambda k: self.item_y(order[k]))
+                if self.item_y(order[j]) < self.item_y(order[i]):
+                    order[i], order[j] = order[j], order[i]
         return order
+
+    def item_y(self, item: str) -> float:
+        return float(self.data.xpos[self.env.props[item].root_body_id][1])
+
+    def right_hand_reaches(self, item: str) -> bool:
+        """Whether the body can stand where the right hand takes the item from."""
+        stance = np.array([FRONT - TABLE_CLEARANCE, self.item_y(item) + HAND_OFFSET, COUNTER_CROUCH, 0.0])
+        return float(np.linalg.norm(self.clamp_to_region(stance)[:2] - stance[:2])) < STANCE_SLACK
 
     def closing(self, side: int, item: str) -> tuple[np.ndarray, float]:
         """The fingers' closing direction (and how far the body turns for it): across a
@@ -129,13 +165,30 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
             top = max(top, float(self.data.geom_xpos[g][2]) + float(half))
         return top - float(self.data.xpos[body][2])
 
+    def item_reach(self, item: str, direction: np.ndarray) -> float:
+        """How far (m) an item's colliders reach from its origin along the horizontal
+        ``direction``."""
+        body = self.env.props[item].root_body_id
+        model, data = self.model, self.data
+        reach = 0.0
+        for g in np.flatnonzero(model.body_rootid[model.geom_bodyid] == body):
+            if not model.geom_contype[g]:
+                continue
+            size = model.geom_size[g]
+            if model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX:
+                extent = float(np.abs(data.geom_xmat[g].reshape(3, 3).T @ direction) @ size)
+            else:  # upright cylinders and capsules
+                extent = float(size[0])
+            reach = max(reach, float((data.geom_xpos[g] - data.xpos[body]) @ direction) + extent)
+        return reach
+
     # ------------------------------------------------------------------ steps
     def take_item(self, side: int, item: str) -> Script:
         """Step up to the counter in line with the item, hands at the hips, and take it."""
         self.note(f"to {item}")
         body = self.env.props[item].root_body_id
         position = self.data.xpos[body].copy()
-        lateral = 0.2 if side == LEFT else -0.2
+        lateral = HAND_OFFSET if side == LEFT else -HAND_OFFSET
         _, turn = self.closing(side, item)
         stance = np.array(
             [
@@ -146,13 +199,18 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
             ]
         )
         for hand in (LEFT, RIGHT):
-            self.hand_to_hip(hand)
+            self.hand_to_hip(hand, wider=HIP_WIDER[hand])
         yield from self.walk([self.clamp_to_region(stance)])
         height = GRIP_HEIGHT + self.human.jitter(0.008)
 
         def aim() -> tuple[np.ndarray, np.ndarray]:
             closing, _ = self.closing(side, item)
-            return self.data.xpos[body] + np.array([0.0, 0.0, height]), closing
+            forward = yaw_matrix(self.base_pose()[3]) @ np.array([1.0, 0.0, 0.0])
+            across = np.array([closing[0], closing[1], 0.0]) / np.linalg.norm(closing[:2])
+            ahead = forward - (forward @ across) * across
+            ahead /= np.linalg.norm(ahead)
+            shift = max(0.0, self.item_reach(item, -ahead) - GRIP_DEPTH)
+            return self.data.xpos[body] + np.array([0.0, 0.0, height]) - shift * ahead, closing
 
         hand, _ = self.hand_pose(side)
         top = position[2] + height
@@ -161,7 +219,8 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
             np.array([FRONT - 0.1, 0.5 * (hand[1] + position[1]), top + 0.12]),
             position + np.array([-0.2, 0.0, height + 0.15]),
         ]
-        if not (yield from self.pick(side, aim, lift=LIFT, prop=item, tilt=GRIP_TILT, via=via)):
+        grasp = {"tilt": GRIP_TILT, "thin": False, "upright": True}
+        if not (yield from self.pick(side, aim, lift=LIFT, prop=item, via=via, **grasp)):
             self.note(f"gave up on {item}")
             while True:  # the demo fails and is not kept
                 yield
@@ -185,7 +244,7 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         room = COUNTER_UNDERSIDE - SHELF_TOP - self.item_height(item)
         entry = SHELF_TOP + float(np.clip(0.5 * room, *ENTRY_CLEARANCE))
         pinch_goal = spot + offset
-        shift = 0.2 if side == LEFT else -0.2
+        shift = HAND_OFFSET if side == LEFT else -HAND_OFFSET
         down = back.copy()
         down[1] = pinch_goal[1] - shift + self.human.jitter(0.02)
         down[2] = float(np.clip(back[2] - (float(self.data.xpos[body][2]) - entry), 0.42, back[2]))
@@ -205,10 +264,13 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         # not raised into the counter before it is lowered
         yield from self.place(side, spot, prop=item, level=True, tip_down=0.05, headroom=max(room - 0.01, 0.01))
         p, r = self.hand_pose(side)
-        out = np.array([FRONT - 0.12, p[1], min(p[2], COUNTER_UNDERSIDE - 0.15)])
+        # just out from under the counter (further back, the gripper's base would be in
+        # the torso), and the body steps back as it rises, leaving the hand room to come
+        # round to the hip
+        out = np.array([FRONT - 0.06, p[1], min(p[2], COUNTER_UNDERSIDE - 0.15)])
         yield from self.until(self.move_hand(side, out, r, FREE, spread=0.2, precision=0.05))
         up = self.commanded_base()
-        up[0] = min(up[0], FRONT - FRONT_CLEARANCE - 0.05)
+        up[0] = min(up[0], FRONT - FRONT_CLEARANCE - 0.05) - STEP_BACK
         up[2] = COUNTER_CROUCH
         self.note("up")
         yield from self.walk([self.clamp_to_region(up)])

@@ -16,9 +16,11 @@ import bigym.cli.demos as demos_cli
 from bigym.cli import app
 from bigym.demonstrations import Demo, DemoStore
 from bigym.experts.dataset import (
+    ATTEMPTS_PER_DEMO,
     DATASET_TASKS,
     DATASET_VERSION,
     DEMOS_PER_TASK,
+    SPARE_ATTEMPTS,
     build_dataset,
     build_record_path,
     check_dataset,
@@ -104,8 +106,8 @@ def test_generate_and_stats_fail_clearly(tmp_path):
     assert result.exit_code == 1 and "no expert for PutCups" in result.output
     result = run("generate", "NoSuchTask", "--store", tmp_path / "s")
     assert result.exit_code == 1 and "unknown task" in result.output
-    # an expert, but no shipped demos to build
-    result = run("stats", "StoreGroceriesLower", "--store", tmp_path / "empty")
+    # an expert, but no shipped demos to build (StoreBox has none in v1)
+    result = run("stats", "StoreBox", "--store", tmp_path / "empty", "--version", "v1")
     assert result.exit_code == 1 and "--source fresh" in result.output
     result = run("stats", "ReachTargetSingle", "-n", 2, "--store", tmp_path / "empty")  # built on demand
     assert result.exit_code == 0 and "building its 50 files" in result.output, result.output
@@ -195,6 +197,31 @@ def test_a_maintainer_rebuild_resumes_against_its_own_build_not_the_stale_manife
     record["tasks"]["ReachTargetDual"]["bigym_version"] = "0.0.1"  # built by another bigym
     record_path.write_text(json.dumps(record))
     assert not dataset.task_complete(out, "ReachTargetDual", per_task=2, against_shipped=False)
+
+
+def test_a_task_build_may_spend_five_attempts_per_demo_and_then_says_what_it_kept(tmp_path, monkeypatch):
+    """The hardest experts keep about one attempt in three: a build gives each task five
+    attempts per demo (and a few spare) before it gives up, and then fails with the figures."""
+    import bigym.experts.generate as generate
+
+    calls = []
+
+    class Report:
+        kept = 7
+
+        def summary(self):
+            return "kept 7/55"
+
+    def fake_generate_demos(task, **kwargs):
+        calls.append((task, kwargs))
+        return Report()
+
+    monkeypatch.setattr(generate, "generate_demos", fake_generate_demos)
+    with pytest.raises(RuntimeError, match=r"kept 7/55\nthe dataset needs 10 demos of StoreGroceriesLower"):
+        build_dataset(tmp_path / "store", ("StoreGroceriesLower",), workers=1, progress=False, per_task=10)
+    [(task, kwargs)] = calls
+    assert task == "StoreGroceriesLower" and kwargs["n"] == 10
+    assert kwargs["max_attempts"] == ATTEMPTS_PER_DEMO * 10 + SPARE_ATTEMPTS == 55
 
 
 @pytest.mark.parametrize("task", DATASET_TASKS)

@@ -34,6 +34,22 @@ def test_the_hand_closes_across_two_faces_within_reach_after_the_turn(expert, si
         assert abs(turn) <= np.pi / 4  # faces every quarter turn: never more than an eighth
 
 
+@pytest.mark.parametrize("side", [0, 1])
+def test_an_upright_grasp_keeps_the_back_of_the_hand_up_whichever_sign_the_closing_has(expert, side):
+    """A hand coming in nearly level keeps one posture for either sign of the closing
+    direction: the pinch frame's x axis points down (the other sign turns the wrist over,
+    which the arm reaching far over a counter cannot do); the frame closes along the
+    direction and comes in at the tilt."""
+    for closing_yaw in np.linspace(-np.pi, np.pi, 13):
+        closing = np.array([np.cos(closing_yaw), np.sin(closing_yaw), 0.0])
+        for tilt in (0.2, 0.5):
+            frame = expert.grasp_rotation(side, closing, tilt, upright=True)
+            np.testing.assert_allclose(frame, expert.grasp_rotation(side, -closing, tilt, upright=True), atol=1e-12)
+            assert frame[2, 0] < 0.0
+            assert abs(float(frame[:, 1] @ closing)) == pytest.approx(1.0, abs=1e-9)
+            assert float(np.arcsin(-frame[2, 2])) == pytest.approx(tilt, abs=1e-9)
+
+
 def test_a_walk_rounds_its_corners_stays_within_the_base_speed_and_ends_on_the_goal(expert):
     start = expert.commanded_base()
     route = [start + [0.0, 1.0, 0.0, 0.0], start + [1.5, 1.0, 0.0, 0.5]]

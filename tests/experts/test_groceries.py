@@ -1,0 +1,70 @@
+"""The groceries demonstrator's choices: which hand takes which item, and where on a long
+box the fingers close."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+import pytest
+
+from bigym.experts.generate import _env, close_envs
+from bigym.experts.groceries import CUPBOARD, DOOR, GroceriesExpert
+from bigym.props.base import quat_yaw
+
+
+@pytest.fixture(scope="module")
+def env():
+    env = _env("StoreGroceriesLower")
+    yield env
+    close_envs()
+
+
+def _expert(env, seed: int, door_open: bool, ys=(0.03, -0.17, -0.37, -0.57)) -> GroceriesExpert:
+    """An expert on a fresh episode whose four items stand in a row at ``ys``, with the body
+    kept out of the open door's way (as after the door) or not."""
+    obs, _ = env.reset(seed=0)
+    for name, y in zip(env.chosen, ys, strict=True):
+        position = env.data.xpos[env.props[name].root_body_id].copy()
+        env.props[name].set_pose(env.data, (0.7, y, position[2]))
+    mujoco.mj_forward(env.model, env.data)
+    expert = GroceriesExpert(env, seed=seed)
+    expert(obs)  # starts the script
+    if door_open:
+        expert.keep_clear_of_open_door(CUPBOARD, DOOR)
+    return expert
+
+
+def test_an_item_the_right_hand_cannot_stand_beside_goes_to_the_left_hand(env):
+    """The open door keeps the body right of the leftmost item: whatever order is drawn,
+    that item is among the left hand's (the first half). Without the door in the way the
+    drawn order sometimes gives it to the right hand, so the rule is what keeps it left."""
+    leftmost_rank = {True: set(), False: set()}
+    for door_open in (True, False):
+        for seed in range(40):
+            expert = _expert(env, seed, door_open)
+            order = expert.item_order()
+            assert sorted(order) == sorted(env.chosen)
+            leftmost = max(order, key=expert.item_y)
+            leftmost_rank[door_open].add(order.index(leftmost))
+    assert leftmost_rank[True] <= {0, 1}
+    assert leftmost_rank[False] - {0, 1}
+
+
+def test_a_long_box_is_reached_from_its_near_end(env):
+    """The cereal box's colliders reach 0.095 m from its origin along its length and 0.035 m
+    across it, whichever way it stands: the fingers close near the end they come from."""
+    obs, _ = env.reset(seed=0)
+    expert = GroceriesExpert(env, seed=0)
+    for yaw in (0.0, 0.7, -2.0):
+        env.props["cereals"].set_pose(env.data, (0.7, 0.0, 0.9), quat_yaw(yaw))
+        mujoco.mj_forward(env.model, env.data)
+        length = np.array([-np.sin(yaw), np.cos(yaw), 0.0])  # the box's local y
+        across = np.array([np.cos(yaw), np.sin(yaw), 0.0])
+        assert expert.item_reach("cereals", length) == pytest.approx(0.095, abs=1e-6)
+        assert expert.item_reach("cereals", -length) == pytest.approx(0.095, abs=1e-6)
+        assert expert.item_reach("cereals", across) == pytest.approx(0.035, abs=1e-6)
+    # a round item reaches as far every way
+    env.props["soup_can"].set_pose(env.data, (0.7, 0.3, 0.9))
+    mujoco.mj_forward(env.model, env.data)
+    reaches = [expert.item_reach("soup_can", np.array([np.cos(a), np.sin(a), 0.0])) for a in (0.0, 1.0, 2.5)]
+    assert max(reaches) - min(reaches) < 1e-9 and 0.02 < reaches[0] < 0.06
