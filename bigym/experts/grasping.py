@@ -85,8 +85,8 @@ class GraspingExpert(Expert):
         self, side: int, closing: np.ndarray, tilt: float = GRASP_TILT, upright: bool = False
     ) -> np.ndarray:
         """Pinch frame closing along ``closing`` (made horizontal; the sign that turns the
-        wrist least, or with ``upright`` the one that keeps the hand's back up, for a hand
-        that comes in nearly level) and approaching from the body's side, ``tilt`` rad
+        wrist least, or with ``upright`` the one whose x axis points down: one wrist posture
+        whichever sign, for a hand reaching far and nearly level) and approaching from the body's side, ``tilt`` rad
         below horizontal."""
         y = np.array([closing[0], closing[1], 0.0])
         y /= np.linalg.norm(y)
