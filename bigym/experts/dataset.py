@@ -59,6 +59,7 @@ DATASET_TASKS = (
     "FlipCup",
     "FlipCutlery",
     "StoreGroceriesLower",
+    "DishwasherUnloadCutlery",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

@@ -4,7 +4,7 @@ Every case records the expert through the DemoRecorder at 500 Hz in the benchmar
 action mode (floating base, absolute joint positions), serialises the lightweight demo,
 replays it from those bytes (bit-exact checkpoints) and checks success, on two seeds per
 task. The experts' generator success rate is not 100% (see ``manifests/v2-build.json``:
-52-56% for the four-door cupboards, 53-94% for the object tasks, 76-100% for the other door,
+52-56% for the four-door cupboards, 36-94% for the object tasks, 76-100% for the other door,
 drawer and dishwasher tasks, 100% for the reach tasks; the generator keeps only verified
 demos), so a case may use up to ``SPARE_SEEDS`` extra seeds, and fails when it needs more.
 """
