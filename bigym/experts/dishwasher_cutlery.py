@@ -11,7 +11,7 @@ compartment of the tray on its hand's side: they stand it on its end and tip it 
 towards themselves about that end until it nearly lies flat, then let go.
 
 The tip-over is what keeps the piece in the tray: let go standing, a 19-23 cm piece falls
-whichever way it leans, half the time over the tray's near wall and off the counter; and
+whichever way it leans, often over the tray's near wall and off the counter; and
 the hand cannot turn a piece held near its end flat in the air (it pivots between the pads:
 the closing axis carries its whole weight as a torque), while a piece resting on its end
 carries its weight on the tray.

@@ -3,7 +3,7 @@
 That the task succeeds and its demo replays at every rate is ``test_experts``' generic
 case. This checks the way it succeeds: each piece is stood on its end in the tray while
 still held, tipped over about that end, and let go only once it nearly lies flat (not
-dropped standing, which throws it over the tray's wall half the time), in a compartment on
+dropped standing, which often throws it over the tray's wall), in a compartment on
 its hand's side; and the hand that goes first varies.
 """
 
