@@ -18,7 +18,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware`,
 :mod:`~bigym.experts.boxes`, :mod:`~bigym.experts.store_box`,
 :mod:`~bigym.experts.flip_cup`, :mod:`~bigym.experts.flip_cutlery`,
-:mod:`~bigym.experts.groceries`, :mod:`~bigym.experts.dishwasher_cutlery` (the task scripts),
+:mod:`~bigym.experts.groceries`, :mod:`~bigym.experts.dishwasher_cutlery`,
+:mod:`~bigym.experts.dishwasher_load_cutlery` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -62,6 +63,7 @@ EXPERTS: dict[str, str] = {
     "FlipCutlery": "bigym.experts.flip_cutlery:FlipCutleryExpert",
     "StoreGroceriesLower": "bigym.experts.groceries:GroceriesExpert",
     "DishwasherUnloadCutlery": "bigym.experts.dishwasher_cutlery:CutleryUnloadExpert",
+    "DishwasherLoadCutlery": "bigym.experts.dishwasher_load_cutlery:CutleryLoadExpert",
 }
 
 

@@ -60,6 +60,7 @@ DATASET_TASKS = (
     "FlipCutlery",
     "StoreGroceriesLower",
     "DishwasherUnloadCutlery",
+    "DishwasherLoadCutlery",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

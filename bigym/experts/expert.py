@@ -83,6 +83,21 @@ class Piecewise:
         return self.pieces[index](t)
 
 
+def together(*scripts: Script) -> Script:
+    """Run scripts side by side, one step of each per control step, until all have ended:
+    what a person does with two hands at once (each script drives its own hand)."""
+    live = list(scripts)
+    while True:
+        for script in list(live):
+            try:
+                next(script)
+            except StopIteration:
+                live.remove(script)
+        if not live:
+            return
+        yield
+
+
 def _constant(value: np.ndarray) -> Callable[[float], np.ndarray]:
     value = np.array(value, float)
     return lambda t: value
@@ -315,6 +330,11 @@ class Expert:
 
     def hesitate(self) -> Script:
         yield from self.wait(self.human.hesitation())
+
+    def after(self, delay: float, script: Script) -> Script:
+        """``script``, started ``delay`` seconds from now (to stagger it in :func:`together`)."""
+        yield from self.wait(delay)
+        yield from script
 
     # ------------------------------------------------------------------ reference setters
     def move_hand(
@@ -710,4 +730,4 @@ class Expert:
         return frame_from_axes(bar, approach)
 
 
-__all__ = ["ALIGN_BAR", "FIRM", "FREE", "LEFT", "RIGHT", "SIDE_INDEX", "SIDE_NAMES", "Expert", "HandReference"]
+__all__ = ["ALIGN_BAR", "FIRM", "FREE", "LEFT", "RIGHT", "SIDE_INDEX", "SIDE_NAMES", "Expert", "HandReference", "together"]

@@ -236,18 +236,25 @@ class GraspingExpert(Expert):
     def hand_to_hip(self, side: int, wider: float = 0.0) -> float:
         """Bring a free hand beside the hip (``wider``: this much further out, m), where it
         stays as the body moves; returns the end time."""
-        base = self.commanded_base()
-        p, r = self.hand_pose(side)
-        local_p, local_r = to_base(base, p, r)
         hip = HAND_AT_HIP + np.array([0.0, wider, 0.0])
         goal = hip * np.array([1.0, 1.0 if side == LEFT else -1.0, 1.0]) + self.human.jitter(0.02, 3)
+        # measured from the IK's commanded base, which can lag the plan a few centimetres (a
+        # free hand does not mind the small jump; the shipped demos were recorded so)
+        return self.move_hand_with_body(side, goal, FREE, self.commanded_base())
+
+    def move_hand_with_body(self, side: int, goal: np.ndarray, orientation_cost: np.ndarray, base: np.ndarray) -> float:
+        """Move a hand to ``goal`` in the body's frame (``base``: the body's pose it is
+        measured from now), keeping its orientation in that frame; it then stays there as
+        the body moves, so it can start before a walk does. Returns the end time."""
+        p, r = self.hand_pose(side)
+        local_p, local_r = to_base(base, p, r)
         duration = self.human.duration(float(np.linalg.norm(goal - local_p)), 0.05)
         path = self.human.path([local_p, goal], duration)
         t0 = self.time
         self.hands[side] = HandReference(
             (lambda t: from_base(self.base_ref(t), path(min(max(t - t0, 0.0), duration)), None)[0]),
             (lambda t: from_base(self.base_ref(t), None, local_r)[1]),
-            FREE,
+            orientation_cost,
             tremor=0.5,
         )
         return t0 + duration
