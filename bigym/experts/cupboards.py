@@ -20,7 +20,7 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.experts.doors import DONE_MARGIN, OVERSHOOT, DoorSkills
-from bigym.experts.expert import FIRM, LEFT, RIGHT, SIDE_NAMES, Script
+from bigym.experts.expert import FIRM, LEFT, RIGHT, SIDE_NAMES, Script, together
 
 DRAWERS_PROP = "cabinet_drawers"
 DRAWER_ORDER = ("drawer_big_1", "drawer_small_3", "drawer_small_4")  # bottom to top
@@ -149,10 +149,6 @@ class CupboardExpert(DoorSkills):
                 relaxed = self.relax_arm(side)
                 yield from self.until(self.time + 0.6 * (relaxed - self.time))
 
-    def _after(self, delay: float, script: Script) -> Script:
-        yield from self.wait(delay)
-        yield from script
-
     def wall_doors(self, keys: list[str], goal: float) -> Script:
         """Both wall-cupboard doors: one hand each at once, or one after the other."""
         both = len(keys) == 2 and self.rng.random() < (0.4 if goal > 0.5 else 0.5)
@@ -171,10 +167,10 @@ class CupboardExpert(DoorSkills):
             scripts = [
                 self.door(sides[key], WALL_PROP, key, goal, base=False)
                 if i == first
-                else self._after(delay, self.door(sides[key], WALL_PROP, key, goal, base=False))
+                else self.after(delay, self.door(sides[key], WALL_PROP, key, goal, base=False))
                 for i, key in enumerate(keys)
             ]
-            yield from run_together(scripts)
+            yield from together(*scripts)
         else:
             order = list(keys) if self.rng.random() < 0.5 else list(reversed(keys))
             for key in order:
@@ -185,15 +181,3 @@ class CupboardExpert(DoorSkills):
                 yield from self.door(side, WALL_PROP, key, goal)
                 yield from self.hesitate()
 
-
-def run_together(scripts: list[Script]) -> Script:
-    """Advance several scripts in lock-step until all have finished."""
-    running = list(scripts)
-    while running:
-        for script in list(running):
-            try:
-                next(script)
-            except StopIteration:
-                running.remove(script)
-        if running:
-            yield
