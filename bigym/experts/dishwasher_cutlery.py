@@ -102,10 +102,11 @@ class CutleryUnloadExpert(GraspingExpert):
         body = self.env.props[item].root_body_id
         return self.data.xpos[body] + sign * self.axis(item) * 0.5 * self.env.props[item].length
 
-    def assign_hands(self) -> dict[int, str]:
-        """Each hand takes the piece on its side."""
-        base = self.base_pose()
-        left = np.array([-np.sin(base[3]), np.cos(base[3])])
+    def assign_hands(self, yaw: float | None = None) -> dict[int, str]:
+        """Each hand takes the piece on its side, for the body facing ``yaw`` (default: as
+        it stands)."""
+        yaw = self.base_pose()[3] if yaw is None else yaw
+        left = np.array([-np.sin(yaw), np.cos(yaw)])
         on_left = max(ITEMS, key=lambda item: float(self.end(item, 1.0)[:2] @ left))
         self.choices["left hand"] = on_left
         return {LEFT: on_left, RIGHT: ITEMS[1 - ITEMS.index(on_left)]}

@@ -37,7 +37,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.dishwasher_cutlery import ITEMS, ROUND_THE_DOOR_X, CutleryUnloadExpert
+from bigym.experts.dishwasher_cutlery import ROUND_THE_DOOR_X, CutleryUnloadExpert
 from bigym.experts.expert import FREE, LEFT, RIGHT, SIDE_NAMES, Script, together
 from bigym.experts.geometry import aligning_rotation, frame_from_axes, yaw_matrix
 from bigym.experts.grasping import HOLD
@@ -104,7 +104,7 @@ class CutleryLoadExpert(CutleryUnloadExpert):
     def plan(self) -> Script:
         yield from self.wait(self.human.reaction())
         self.face_the_mug()
-        hands = self.hands_by_side()
+        hands = self.assign_hands(self.facing)  # as the body will stand
         first = LEFT if self.rng.random() < 0.5 else RIGHT
         self.choices["first"] = SIDE_NAMES[first]
         yield from together(
@@ -138,13 +138,6 @@ class CutleryLoadExpert(CutleryUnloadExpert):
         self.facing = float(self.mug_stance[3])
         self.choices["facing"] = round(self.facing, 2)
         self.move_base(self.mug_stance)
-
-    def hands_by_side(self) -> dict[int, str]:
-        """Each hand takes the piece on its side, as the body will stand."""
-        left = yaw_matrix(self.facing) @ np.array([0.0, 1.0, 0.0])
-        on_left = max(ITEMS, key=lambda item: float(self.end(item, 1.0) @ left))
-        self.choices["left hand"] = on_left
-        return {LEFT: on_left, RIGHT: ITEMS[1 - ITEMS.index(on_left)]}
 
     def grasp_rotation(self, side: int, closing: np.ndarray, tilt: float = 0.0, upright: bool = False) -> np.ndarray:
         """Pinch frame closing along ``closing`` as it is (the pads parallel to the face,
@@ -227,8 +220,7 @@ class CutleryLoadExpert(CutleryUnloadExpert):
             (ROUND_THE_DOOR_X + self.human.jitter(0.04), base[1] + 0.3, 0.5 * (base[2] + BASKET_CROUCH), 0.4),
             (x, y, BASKET_CROUCH + self.human.jitter(0.02), self.human.jitter(0.06)),
         ]
-        arrival = yield from self.walk(route, wait=False)
-        return arrival
+        return (yield from self.walk(route, wait=False))
 
     def put_in_basket(self, side: int, item: str) -> Script:
         """Stand the piece in a compartment on the hand's side, leaning a little away from
