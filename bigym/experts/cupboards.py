@@ -2,8 +2,7 @@
 
 How a person does it, and so how these scripts do it:
 
-* a drawer opens by its handle (fingers around the bar, pull, step back) and closes
-  with a push of the fist on its handle bar;
+* a drawer is opened and closed as :mod:`bigym.experts.drawers` does it;
 * a hinged door is opened and closed as :mod:`bigym.experts.doors` does it.
 
 Choices drawn per demo: the hand for each drawer or door (for the wall cupboard also
@@ -17,10 +16,9 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-import numpy as np
-
-from bigym.experts.doors import DONE_MARGIN, OVERSHOOT, DoorSkills
-from bigym.experts.expert import FIRM, LEFT, RIGHT, SIDE_NAMES, Script, together
+from bigym.experts.doors import DoorSkills
+from bigym.experts.drawers import DrawerSkills
+from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script, together
 
 DRAWERS_PROP = "cabinet_drawers"
 DRAWER_ORDER = ("drawer_big_1", "drawer_small_3", "drawer_small_4")  # bottom to top
@@ -31,7 +29,7 @@ BASE_CLEARANCE = 0.3
 FAR_HAND_PROBABILITY = 0.15
 
 
-class CupboardExpert(DoorSkills):
+class CupboardExpert(DoorSkills, DrawerSkills):
     """Opens and closes the drawers and doors of the counter scene."""
 
     tasks = (
@@ -82,7 +80,7 @@ class CupboardExpert(DoorSkills):
             prop = group[0][0]
             if prop == DRAWERS_PROP:
                 for _, key in group:
-                    yield from self.drawer(key, goal)
+                    yield from self.drawer(self.pick_hand(key), DRAWERS_PROP, key, goal)
             elif prop == WALL_PROP:
                 yield from self.wall_doors([key for _, key in group], goal)
             else:
@@ -106,48 +104,6 @@ class CupboardExpert(DoorSkills):
         side = LEFT if self.rng.random() < 0.5 else RIGHT
         self._note_hand(job, side)
         return side
-
-    # ------------------------------------------------------------------ drawers
-    def drawer(self, key: str, goal: float, attempts: int = 3) -> Script:
-        """Open a drawer by its handle, or close it by pushing its handle bar with a fist;
-        if it stopped short, once more (a correction)."""
-        side = self.pick_hand(key)
-        for attempt in range(attempts):
-            state = self.joint_state(DRAWERS_PROP, key)
-            if abs(state - goal) < DONE_MARGIN:
-                return
-            if attempt:
-                self.note(f"correct {key} at {state:.2f}")
-            centre, bar, approach = self.handle_frame(DRAWERS_PROP, f"{key}_handle", "y")
-            if goal > 0.5:
-                stance = self.stance(side, centre, approach)
-                tilt = float(np.clip((stance[2] - 0.27 - centre[2]) * 2.0, 0.0, 0.6)) + self.human.jitter(
-                    self.style.approach_spread
-                )
-                yield from self.grasp_bar(
-                    side, centre, bar, approach, tilt=tilt, offset=self.human.jitter(0.02), base_goal=stance
-                )
-                yield from self.hesitate()
-                yield from self.drag(
-                    [side], DRAWERS_PROP, key, 1.0 + OVERSHOOT, base_follow=0.85, orientation_cost=FIRM * 0.5
-                )
-                away = None
-            else:
-                # the fist on the bar's front (a hand on the front face below it would have
-                # to reach under the counter's overhang for the top drawer)
-                point = centre - approach * 0.008 + bar * self.human.jitter(0.03)
-                stance = self.stance(side, point, approach)
-                yield from self.press(side, point, approach, across=bar, base_goal=stance)
-                yield from self.drag(
-                    [side], DRAWERS_PROP, key, -OVERSHOOT, base_follow=0.85, orientation_cost=FIRM * 0.3
-                )
-                away = -approach
-            done = abs(self.joint_state(DRAWERS_PROP, key) - goal) < DONE_MARGIN
-            # out and up, clear of the open drawer's front, before anything else moves
-            yield from self.release(side, back=0.12, up=0.06, away=away)
-            if done:
-                relaxed = self.relax_arm(side)
-                yield from self.until(self.time + 0.6 * (relaxed - self.time))
 
     def wall_doors(self, keys: list[str], goal: float) -> Script:
         """Both wall-cupboard doors: one hand each at once, or one after the other."""
@@ -180,4 +136,3 @@ class CupboardExpert(DoorSkills):
                 self._note_hand(f"{WALL_PROP}/{key}", side)
                 yield from self.door(side, WALL_PROP, key, goal)
                 yield from self.hesitate()
-
