@@ -13,13 +13,15 @@ turns them into base and arm joint targets with a whole-body mink IK
 Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.grasping` (pick, carry and place skills),
 :mod:`~bigym.experts.doors` (open and close hinged doors),
+:mod:`~bigym.experts.drawers` (open and close drawers),
 :mod:`~bigym.experts.reach`, :mod:`~bigym.experts.cupboards`,
 :mod:`~bigym.experts.dishwasher`, :mod:`~bigym.experts.stack_blocks`,
 :mod:`~bigym.experts.move_plates`, :mod:`~bigym.experts.cookware`,
 :mod:`~bigym.experts.boxes`, :mod:`~bigym.experts.store_box`,
 :mod:`~bigym.experts.flip_cup`, :mod:`~bigym.experts.flip_cutlery`,
 :mod:`~bigym.experts.groceries`, :mod:`~bigym.experts.dishwasher_cutlery`,
-:mod:`~bigym.experts.dishwasher_load_cutlery` (the task scripts),
+:mod:`~bigym.experts.dishwasher_load_cutlery`,
+:mod:`~bigym.experts.dishwasher_unload_cutlery_long` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -64,6 +66,7 @@ EXPERTS: dict[str, str] = {
     "StoreGroceriesLower": "bigym.experts.groceries:GroceriesExpert",
     "DishwasherUnloadCutlery": "bigym.experts.dishwasher_cutlery:CutleryUnloadExpert",
     "DishwasherLoadCutlery": "bigym.experts.dishwasher_load_cutlery:CutleryLoadExpert",
+    "DishwasherUnloadCutleryLong": "bigym.experts.dishwasher_unload_cutlery_long:CutleryDrawerExpert",
 }
 
 

@@ -61,6 +61,7 @@ DATASET_TASKS = (
     "StoreGroceriesLower",
     "DishwasherUnloadCutlery",
     "DishwasherLoadCutlery",
+    "DishwasherUnloadCutleryLong",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

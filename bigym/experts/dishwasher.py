@@ -52,13 +52,7 @@ class DishwasherExpert(Expert):
         env = self.env
         goal = float(env.goal)
         opening = goal > 0.5
-        facing = self.facing()
-        # never walk into the dishwasher, nor onto its door: stay on the start's side
-        self.keep_base_behind(self.front_point(), facing, FRONT_CLEARANCE)
-        start = self.commanded_base()
-        self._side_sign = float(np.sign((start[:2] - self.front_point()[:2]) @ self.lateral()[:2]) or -1.0)
-        self.keep_base_behind(self.front_point(), -self._side_sign * self.lateral(), SIDE_CLEARANCE)
-        near = LEFT if self._side_sign < 0 else RIGHT  # the hand on the dishwasher's side
+        near = self.work_from_side()
         # the middle tray pulled out covers the bottom one: bottom out first, middle in first
         trays = [k for k in ("tray_bottom", "tray_mid") if k in env.targets]
         if not opening:
@@ -87,6 +81,15 @@ class DishwasherExpert(Expert):
             yield from self.hesitate()
         while True:
             yield
+
+    def work_from_side(self) -> int:
+        """From now on keep the base out of the dishwasher and off its door's sweep, on the
+        side of it where the base stands; returns the hand on the dishwasher's side."""
+        self.keep_base_behind(self.front_point(), self.facing(), FRONT_CLEARANCE)
+        base = self.commanded_base()
+        self._side_sign = float(np.sign((base[:2] - self.front_point()[:2]) @ self.lateral()[:2]) or -1.0)
+        self.keep_base_behind(self.front_point(), -self._side_sign * self.lateral(), SIDE_CLEARANCE)
+        return LEFT if self._side_sign < 0 else RIGHT
 
     # ------------------------------------------------------------------ geometry
     def facing(self) -> np.ndarray:

@@ -76,6 +76,11 @@ class CutleryUnloadExpert(GraspingExpert):
     #: let go 15-20 deg from flat, a piece falls the rest of the way onto the tray's floor:
     #: its origin moves down at up to about 0.8 m/s (a drop from a hand is faster)
     drop_speeds: ClassVar[dict[str, float]] = {"knife": 1.0, "fork": 1.0}
+    #: how far past its compartment's middle (m) a piece's lower end is stood
+    pivot_ahead: ClassVar[float] = PIVOT_AHEAD
+    #: each hand's compartments, and how often each is chosen
+    slots: ClassVar[dict[int, tuple[int, ...]]] = SLOTS
+    slot_weights: ClassVar[tuple[float, ...]] = SLOT_WEIGHTS
 
     def plan(self) -> Script:
         yield from self.wait(self.human.reaction())
@@ -112,13 +117,13 @@ class CutleryUnloadExpert(GraspingExpert):
         return {LEFT: on_left, RIGHT: ITEMS[1 - ITEMS.index(on_left)]}
 
     # ------------------------------------------------------------------ steps
-    def walk_to_basket(self) -> Script:
+    def walk_to_basket(self, lateral: float = 0.0) -> Script:
         """Round the door's free end to the front of the pulled-out tray, crouching, facing
-        the basket (+x)."""
+        the basket (+x), the pieces' middle ``lateral`` (m) to the left of the body's."""
         base = self.commanded_base()
-        tops = np.array([self.end(item, 1.0) for item in ITEMS])
+        tops = np.array([self.end(item, 1.0) for item in self.env.items])
         x = float(np.min(tops[:, 0])) - FRONT_REACH + self.human.jitter(0.02)
-        y = float(np.mean(tops[:, 1])) + self.human.jitter(0.03)
+        y = float(np.mean(tops[:, 1])) - lateral + self.human.jitter(0.03)
         self.choices["basket stance"] = [round(x, 2), round(y, 2)]
         route = [
             (ROUND_THE_DOOR_X + self.human.jitter(0.04), base[1] + 0.2, base[2], 0.5),
@@ -173,10 +178,10 @@ class CutleryUnloadExpert(GraspingExpert):
         base = self.base_pose()
         forward = yaw_matrix(base[3]) @ np.array([1.0, 0.0, 0.0])
         left = yaw_matrix(base[3]) @ np.array([0.0, 1.0, 0.0])
-        slot = int(self.rng.choice(SLOTS[side], p=SLOT_WEIGHTS))
+        slot = int(self.rng.choice(self.slots[side], p=self.slot_weights))
         self.choices[f"{item} slot"] = slot
         floor = self.env.props[TRAY].site_pos(self.data, f"slot_{slot}")
-        foot = floor + forward * (PIVOT_AHEAD + self.human.jitter(0.015)) + left * self.human.jitter(0.008)
+        foot = floor + forward * (self.pivot_ahead + self.human.jitter(0.015)) + left * self.human.jitter(0.008)
         # over the spot, the lower end clear of the walls, then down until it touches
         p, rotation = self.hand_pose(side)
         above = p + foot + np.array([0.0, 0.0, OVER_WALLS]) - self.end(item, -1.0)

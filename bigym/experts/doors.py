@@ -58,11 +58,6 @@ class DoorSkills(Expert):
         left = np.cross([0.0, 0.0, 1.0], self.module_facing(prop))
         return LEFT if (hinge - centre) @ left > 0.0 else RIGHT
 
-    def module_facing(self, prop: str) -> np.ndarray:
-        """Direction a person faces when working at a module: into its front (local +x)."""
-        frame = self.data.xmat[self.env.props[prop].root_body_id].reshape(3, 3)
-        return frame[:, 0].copy()
-
     def door_edge(self, prop: str, key: str, height: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """``(point, edge direction out of the door, front normal)`` of a door's free edge.
 

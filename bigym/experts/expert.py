@@ -299,6 +299,11 @@ class Expert:
         """World position of a prop's site in the current (measured) state."""
         return self.data.site_xpos[self.env.props[prop].site_id(key)].copy()
 
+    def module_facing(self, prop: str) -> np.ndarray:
+        """Direction a person faces when working at a module: into its front (local +x)."""
+        frame = self.data.xmat[self.env.props[prop].root_body_id].reshape(3, 3)
+        return frame[:, 0].copy()
+
     def joint_state(self, prop: str, key: str) -> float:
         p = self.env.props[prop]
         return float(p.get_state(self.data)[p.joint_index(key)])

@@ -17,6 +17,7 @@ face pair nearest the hand's natural, across-the-body direction is chosen.
 
 from __future__ import annotations
 
+import itertools
 from collections.abc import Callable, Generator, Sequence
 
 import numpy as np
@@ -242,14 +243,24 @@ class GraspingExpert(Expert):
         # free hand does not mind the small jump; the shipped demos were recorded so)
         return self.move_hand_with_body(side, goal, FREE, self.commanded_base())
 
-    def move_hand_with_body(self, side: int, goal: np.ndarray, orientation_cost: np.ndarray, base: np.ndarray) -> float:
+    def move_hand_with_body(
+        self,
+        side: int,
+        goal: np.ndarray,
+        orientation_cost: np.ndarray,
+        base: np.ndarray,
+        via: Sequence[np.ndarray] = (),
+    ) -> float:
         """Move a hand to ``goal`` in the body's frame (``base``: the body's pose it is
-        measured from now), keeping its orientation in that frame; it then stays there as
-        the body moves, so it can start before a walk does. Returns the end time."""
+        measured from now), through the ``via`` points (also in the body's frame), keeping
+        its orientation in that frame; it then stays there as the body moves, so it can
+        start before a walk does. Returns the end time."""
         p, r = self.hand_pose(side)
         local_p, local_r = to_base(base, p, r)
-        duration = self.human.duration(float(np.linalg.norm(goal - local_p)), 0.05)
-        path = self.human.path([local_p, goal], duration)
+        points = [local_p, *via, goal]
+        length = sum(float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points))
+        duration = self.human.duration(length, 0.05)
+        path = self.human.path(points, duration)
         t0 = self.time
         self.hands[side] = HandReference(
             (lambda t: from_base(self.base_ref(t), path(min(max(t - t0, 0.0), duration)), None)[0]),
