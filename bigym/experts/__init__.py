@@ -21,7 +21,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.flip_cup`, :mod:`~bigym.experts.flip_cutlery`,
 :mod:`~bigym.experts.groceries`, :mod:`~bigym.experts.dishwasher_cutlery`,
 :mod:`~bigym.experts.dishwasher_load_cutlery`,
-:mod:`~bigym.experts.dishwasher_unload_cutlery_long` (the task scripts),
+:mod:`~bigym.experts.dishwasher_unload_cutlery_long`,
+:mod:`~bigym.experts.dishwasher_plates` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -67,6 +68,7 @@ EXPERTS: dict[str, str] = {
     "DishwasherUnloadCutlery": "bigym.experts.dishwasher_cutlery:CutleryUnloadExpert",
     "DishwasherLoadCutlery": "bigym.experts.dishwasher_load_cutlery:CutleryLoadExpert",
     "DishwasherUnloadCutleryLong": "bigym.experts.dishwasher_unload_cutlery_long:CutleryDrawerExpert",
+    "DishwasherUnloadPlates": "bigym.experts.dishwasher_plates:PlateUnloadExpert",
 }
 
 

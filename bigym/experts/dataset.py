@@ -62,6 +62,7 @@ DATASET_TASKS = (
     "DishwasherUnloadCutlery",
     "DishwasherLoadCutlery",
     "DishwasherUnloadCutleryLong",
+    "DishwasherUnloadPlates",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

@@ -250,16 +250,18 @@ class GraspingExpert(Expert):
         orientation_cost: np.ndarray,
         base: np.ndarray,
         via: Sequence[np.ndarray] = (),
+        speed: float = 1.0,
     ) -> float:
         """Move a hand to ``goal`` in the body's frame (``base``: the body's pose it is
         measured from now), through the ``via`` points (also in the body's frame), keeping
-        its orientation in that frame; it then stays there as the body moves, so it can
-        start before a walk does. Returns the end time."""
+        its orientation in that frame, ``speed`` times as fast as a free movement; it then
+        stays there as the body moves, so it can start before a walk does. Returns the end
+        time."""
         p, r = self.hand_pose(side)
         local_p, local_r = to_base(base, p, r)
         points = [local_p, *via, goal]
         length = sum(float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points))
-        duration = self.human.duration(length, 0.05)
+        duration = self.human.duration(length, 0.05) / speed
         path = self.human.path(points, duration)
         t0 = self.time
         self.hands[side] = HandReference(
@@ -365,18 +367,28 @@ class GraspingExpert(Expert):
             yield
 
     def walk(
-        self, route: Sequence[Sequence[float]], carrying: Sequence[int] = (), speed: float = 1.0, wait: bool = True
+        self,
+        route: Sequence[Sequence[float]],
+        carrying: Sequence[int] = (),
+        speed: float = 1.0,
+        wait: bool = True,
+        from_plan: bool = False,
     ) -> Generator[None, None, float]:
         """Walk the base through ``route`` (x, y, z, yaw waypoints), the ``carrying`` hands
         held still relative to the pelvis; returns the time the walk ends. Without ``wait``
         it returns at once, so that the hands can start on something else on the way (the
         carrying hands stay with the pelvis until they are given something else to do).
 
+        The walk starts from where the IK has put the body, or, ``from_plan``, from where
+        the body was planned to be: when a hand holds something out of the arm's easy
+        reach the IK moves the body off its plan to help, and a hand held in the body's
+        frame would jump by the difference if the plan restarted from there.
+
         Each leg is a minimum-jerk movement; the next one starts before the last ends (by
         ``LEG_OVERLAP`` of its duration), so the legs add up to one movement that rounds
         its corners, as a person's submovements blend, instead of stopping at each.
         """
-        b0 = self.commanded_base()
+        b0 = self.base_pose() if from_plan else self.commanded_base()
         for side in carrying:
             p, r = self.hand_pose(side)
             local_p, local_r = to_base(b0, p, r)

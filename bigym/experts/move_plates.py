@@ -70,6 +70,10 @@ class MovePlateExpert(GraspingExpert):
 
     tasks = ("MovePlate", "MoveTwoPlates")
     pace: ClassVar[dict[str, float]] = {"MovePlate": 1.6, "MoveTwoPlates": 1.8}
+    #: the drainer the plates go into, and where a plate's origin rests in one of its slots
+    #: (relative to the slot's site)
+    target_drainer: ClassVar[str] = "drainer_target"
+    slot_offset: ClassVar[np.ndarray] = PLATE_IN_SLOT_OFFSET
 
     def plan(self) -> Script:
         if len(self.env.plates) == 2:
@@ -203,7 +207,7 @@ class MovePlateExpert(GraspingExpert):
         plane is the same plate, and the hand cannot pitch it back."""
         env = self.env
         # a plate stands in a slot as the task puts it in at the start (the drainers are not rotated)
-        goal = self.site_of(env.props["drainer_target"], slot) + PLATE_IN_SLOT_OFFSET
+        goal = self.site_of(env.props[self.target_drainer], slot) + self.slot_offset
         orientation = self._initial_rotation[plate]
         if spin_free:
             frame = self.data.xmat[env.props[plate].root_body_id].reshape(3, 3)
@@ -217,8 +221,12 @@ class MovePlateExpert(GraspingExpert):
     def start(self) -> None:
         super().start()
         self._initial_rotation = {
-            p: self.data.xmat[self.env.props[p].root_body_id].reshape(3, 3).copy() for p in self.env.plates
+            p: self.data.xmat[self.env.props[p].root_body_id].reshape(3, 3).copy() for p in self.plates()
         }
+
+    def plates(self) -> tuple[str, ...]:
+        """The task's plates."""
+        return tuple(self.env.plates)
 
 
 __all__ = ["MovePlateExpert"]
