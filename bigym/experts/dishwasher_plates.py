@@ -30,7 +30,7 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.envs.dishwasher_plates import PLATE_IN_SLOT
-from bigym.experts.dishwasher_cutlery import ROUND_THE_DOOR_X
+from bigym.experts.dishwasher_cutlery import CARRY_HEIGHT, ROUND_THE_DOOR_X
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.geometry import aligning_rotation, yaw_matrix
 from bigym.experts.grasping import GRASP, HOLD, LANDED, PRE_GRASP_HEIGHT
@@ -40,12 +40,9 @@ DRAINER = "drainer"
 #: how far (m) behind the plates the pelvis stands at the tray, and how high
 TRAY_REACH = 0.36
 TRAY_CROUCH = 0.72
-#: how high (m) a plate is lifted out of the tray: clear of its holders
-TRAY_LIFT = 0.2
 #: how often a hand takes its plate at most
 TAKE_ATTEMPTS = 2
-#: pelvis height while carrying, and where the hands hold the plates (pelvis frame, m)
-CARRY_HEIGHT = 1.02
+#: where the hands hold the plates while carrying (pelvis frame, m)
 CARRY_AT = np.array([0.25, 0.3, -0.12])
 #: how fast (x a free movement) a held plate is raised: a brisk lift turns it in the fingers
 RAISE_SPEED = 0.5
