@@ -51,6 +51,8 @@ PLATE_QUAT = quat_axis_angle((1.0, 0.0, 0.0), -np.pi / 2)
 #: plate origin relative to a slot site (the site marks the plate's centre)
 PLATE_IN_SLOT = np.array([0.0, -0.0095, 0.002])
 UPRIGHT_DEG = 20.0
+#: the bottom tray's front row, every other slot: plates in it stand 6 cm apart
+FRONT_ROW = tuple(f"plate_slot_1_{k}" for k in range(1, 12, 2))
 #: settling on reset: every joint speed of the objects (m/s, rad/s) below this is "still"
 SETTLED_SPEED = 0.005
 SETTLE_CHUNK = 50
@@ -201,9 +203,7 @@ class _PlatesTask(DishwasherItemsTask):
             self.props[plate].set_pose(self.data, pos, PLATE_QUAT)
 
     def _plates_in_dishwasher(self, rng: np.random.Generator) -> None:
-        # the front row, every other slot: the plates are 6 cm apart
-        slots = [f"plate_slot_1_{k}" for k in range(1, 12, 2)]
-        self._place_plates(self.props[DISHWASHER], slots, rng)
+        self._place_plates(self.props[DISHWASHER], list(FRONT_ROW), rng)
 
 
 class DishwasherUnloadPlates(_PlatesTask):

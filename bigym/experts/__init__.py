@@ -22,7 +22,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.groceries`, :mod:`~bigym.experts.dishwasher_cutlery`,
 :mod:`~bigym.experts.dishwasher_load_cutlery`,
 :mod:`~bigym.experts.dishwasher_unload_cutlery_long`,
-:mod:`~bigym.experts.dishwasher_plates` (the task scripts),
+:mod:`~bigym.experts.dishwasher_plates`,
+:mod:`~bigym.experts.dishwasher_load_plates` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -69,6 +70,7 @@ EXPERTS: dict[str, str] = {
     "DishwasherLoadCutlery": "bigym.experts.dishwasher_load_cutlery:CutleryLoadExpert",
     "DishwasherUnloadCutleryLong": "bigym.experts.dishwasher_unload_cutlery_long:CutleryDrawerExpert",
     "DishwasherUnloadPlates": "bigym.experts.dishwasher_plates:PlateUnloadExpert",
+    "DishwasherLoadPlates": "bigym.experts.dishwasher_load_plates:PlateLoadExpert",
 }
 
 

@@ -63,6 +63,7 @@ DATASET_TASKS = (
     "DishwasherLoadCutlery",
     "DishwasherUnloadCutleryLong",
     "DishwasherUnloadPlates",
+    "DishwasherLoadPlates",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

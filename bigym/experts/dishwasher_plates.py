@@ -91,12 +91,7 @@ class PlateUnloadExpert(MovePlateExpert):
         yield from self.walk_to_tray(plate_of)
         self.note("at tray")
         for side in (first, 1 - first):
-            for _ in range(TAKE_ATTEMPTS):  # a plate that slipped back into the tray is taken again
-                yield from self.take_plate(side, plate_of[side], opening=0.0)
-                if self.env.held(plate_of[side]):
-                    break
-                self.note(f"slipped {'LR'[side]}")
-            self.note(f"took {'LR'[side]}")
+            yield from self.take_until_held(side, plate_of[side])
         # while the plates are held in the body's frame the body keeps to its plan (see
         # :mod:`bigym.experts.dishwasher_unload_cutlery_long`)
         self.base_cost.update(PLATES_BODY_ON_PLAN)
@@ -127,6 +122,16 @@ class PlateUnloadExpert(MovePlateExpert):
         while True:
             yield
 
+    def take_until_held(self, side: int, plate: str, opening: float = 0.0) -> Script:
+        """Take ``plate`` by its rim; one that slipped back into its rack is taken again (at
+        most ``TAKE_ATTEMPTS`` times in all)."""
+        for _ in range(TAKE_ATTEMPTS):
+            yield from self.take_plate(side, plate, opening=opening)
+            if self.env.held(plate):
+                break
+            self.note(f"slipped {'LR'[side]}")
+        self.note(f"took {'LR'[side]}")
+
     def slot_in(self, side: int, plate: str, slot: str) -> Script:
         """Lower the plate upright into ``slot`` of the drainer; if it sticks on the holders
         (the gaps leave it 7 mm either way), lift it a little, move it by how far it is off
@@ -155,11 +160,16 @@ class PlateUnloadExpert(MovePlateExpert):
             p, _ = self.hand_pose(side)
             lift = p + np.array([-off[0], -off[1], RESEAT_LIFT])
             yield from self.until(self.move_hand(side, lift, rotation, HOLD, spread=0.0, precision=0.004, speed=0.5))
+        yield from self.let_go(side, rotation)
+
+    def let_go(self, side: int, rotation: np.ndarray) -> Script:
+        """Let go of a plate standing in its slot and draw the hand back out along its
+        approach, and up."""
         self.hold_hand(side, HOLD, tremor=0.2)
         yield from self.wait(0.1)
         yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
         p, _ = self.hand_pose(side)
-        back = p - rotation[:, 2] * 0.06 + np.array([0.0, 0.0, 0.08])  # out along the approach, and up
+        back = p - rotation[:, 2] * 0.06 + np.array([0.0, 0.0, 0.08])
         yield from self.until(self.move_hand(side, back, rotation, GRASP * 0.5, spread=0.2, tremor=0.5))
 
     def walk_to_tray(self, plate_of: dict[int, str]) -> Script:
