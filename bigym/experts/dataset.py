@@ -64,6 +64,7 @@ DATASET_TASKS = (
     "DishwasherUnloadCutleryLong",
     "DishwasherUnloadPlates",
     "DishwasherLoadPlates",
+    "DishwasherLoadCups",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

@@ -56,6 +56,8 @@ class FlipCupExpert(GraspingExpert):
     """Turns the mug of ``FlipCup`` upright by its handle."""
 
     tasks = ("FlipCup",)
+    #: x of the front edge of the counter the mug stands on
+    counter_front = COUNTER_FRONT
 
     def plan(self) -> Script:
         handle = self.site(MUG, "handle")
@@ -88,15 +90,23 @@ class FlipCupExpert(GraspingExpert):
         yield from self.take_bar(side, wrist, handle, np.array([0.0, 0.0, 1.0]), approach, CROUCH)
 
     def take_bar(
-        self, side: int, wrist: float, point: np.ndarray, line: np.ndarray, approach: np.ndarray, crouch: float
+        self,
+        side: int,
+        wrist: float,
+        point: np.ndarray,
+        line: np.ndarray,
+        approach: np.ndarray,
+        crouch: float,
+        shoulder_offset: float = SHOULDER_OFFSET,
     ) -> Script:
-        """Crouch in front of the counter, ``side``'s shoulder beside ``point``, and take the
-        bar through ``point`` along ``line`` (either way), the hand coming in along the
-        horizontal ``approach`` with the wrist already at ``wrist``, one end of its range."""
-        shift = SHOULDER_OFFSET if side == LEFT else -SHOULDER_OFFSET
+        """Crouch in front of the counter, ``side``'s shoulder beside ``point`` (the pelvis
+        ``shoulder_offset`` to the side of it), and take the bar through ``point`` along
+        ``line`` (either way), the hand coming in along the horizontal ``approach`` with the
+        wrist already at ``wrist``, one end of its range."""
+        shift = shoulder_offset if side == LEFT else -shoulder_offset
         stance = np.array(
             [
-                COUNTER_FRONT - TABLE_CLEARANCE - 0.16 - abs(self.human.jitter(0.02)),
+                self.counter_front - TABLE_CLEARANCE - 0.16 - abs(self.human.jitter(0.02)),
                 point[1] - shift + self.human.jitter(0.03),
                 crouch + self.human.jitter(0.02),
                 self.human.jitter(0.05),
