@@ -65,6 +65,7 @@ DATASET_TASKS = (
     "DishwasherUnloadPlates",
     "DishwasherLoadPlates",
     "DishwasherLoadCups",
+    "DishwasherUnloadCups",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

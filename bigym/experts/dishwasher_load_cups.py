@@ -54,7 +54,7 @@ SEEN_OFF = 0.008
 #: a mug that touches the tray's floor is let go once it is within this (rad) of upside
 #: down: it settles flat by itself (pressed on down, its low edge shoved the tray along)
 SET_DOWN_TILT = np.deg2rad(10.0)
-#: how far (m) over the tray floor the rim is brought before it is lowered onto it
+#: how far (m) over the surface the rim is brought before it is lowered onto it
 OVER_TRAY = 0.04
 
 
@@ -131,26 +131,46 @@ class CupLoadExpert(FlipCupExpert):
         yield from self.walk(route, carrying=(LEFT, RIGHT))
 
     def put_on_tray(self, side: int, mug: str) -> Script:
-        """Bring the mug over its place on the tray, lower it until it rests, let go."""
+        """Put the mug down on its place on the tray's front half, the hand coming from the
+        mug's outer side: behind the mug, its knuckles would sit on the tray's front wall."""
         self.note(f"put {mug} {'LR'[side]}")
-        body = self.env.props[mug].root_body_id
         target = np.array(
             [
                 self.tray_front() + TRAY_IN + self.human.jitter(0.01),
                 (TRAY_Y if side == LEFT else -TRAY_Y) + self.human.jitter(0.02),
-                self.floor_top + self.env.props[mug].height + OVER_TRAY,
+                self.floor_top,
             ]
         )
+        approach = PUT_TURN * (-1.0 if side == LEFT else 1.0) + self.human.jitter(0.1)
+        yield from self.put_down(side, mug, target, self.tray_floor, approach)
+
+    def put_down(
+        self,
+        side: int,
+        mug: str,
+        target: np.ndarray,
+        support: np.ndarray,
+        approach: float | None = None,
+        feel_all_the_way: bool = False,
+        relax: bool = True,
+    ) -> Script:
+        """Bring the held mug upside down over ``target`` (x, y, and the top z of the
+        ``support`` geoms' surface), lower it until its rim rests there, let go. With
+        ``approach`` (rad, from +x), the hand turns the mug about its axis so that it
+        comes at the handle that way. The hand lowers it at most a few centimetres past
+        where it should rest; ``feel_all_the_way``: past where it is seen to be (a hand
+        that did not get down to where it was sent), and one that is not resting then is
+        lifted, straightened and lowered again. ``relax``: the arm relaxes afterwards."""
+        body = self.env.props[mug].root_body_id
+        target = np.array([target[0], target[1], target[2] + self.env.props[mug].height + OVER_TRAY])
         p, _ = self.hand_pose(side)
-        level = self.level_rotation(side, body)  # straight up-side-down, as it is put down
-        # turned about the mug's axis so that the hand comes from its outer side: behind the
-        # mug, its knuckles would sit on the tray's front wall
-        approach = level[:2, 2] / np.linalg.norm(level[:2, 2])
-        want = PUT_TURN * (-1.0 if side == LEFT else 1.0) + self.human.jitter(0.1)
-        turn = yaw_matrix(want - float(np.arctan2(approach[1], approach[0])))
+        level = self.level_rotation(side, body)  # straight upside down, as it is put down
+        turn = np.eye(3)
+        if approach is not None:
+            now = level[:2, 2] / np.linalg.norm(level[:2, 2])
+            turn = yaw_matrix(approach - float(np.arctan2(now[1], now[0])))
         level = turn @ level
-        held = p - self.data.xpos[body]
-        goal = target + turn @ held
+        goal = target + turn @ (p - self.data.xpos[body])
         yield from self.until(self.move_hand(side, goal, level, HOLD, spread=0.1, tremor=0.3))
         for _ in range(LOOKS):  # the arm sags a little reaching this low: look, and correct
             off = target - self.data.xpos[body]
@@ -160,15 +180,23 @@ class CupLoadExpert(FlipCupExpert):
             p, _ = self.hand_pose(side)
             yield from self.until(self.move_hand(side, p + off, level, HOLD, duration=0.4, spread=0.0, tremor=0.2))
         frame = self.data.xmat[body]
-        floor = self.tray_floor
 
         def resting() -> bool:
-            return self.env.touching(self.env.mask(mug), floor) and -frame[8] >= np.cos(SET_DOWN_TILT)
+            return self.env.touching(self.env.mask(mug), support) and -frame[8] >= np.cos(SET_DOWN_TILT)
 
-        yield from self.lower_until(side, level, OVER_TRAY + 0.03, 0.4, resting)
+        depth = OVER_TRAY + 0.03
+        if feel_all_the_way:
+            depth = max(depth, float(self.data.xpos[body][2] - target[2]) + OVER_TRAY + 0.03)
+        yield from self.lower_until(side, level, depth, 0.4, resting)
+        if feel_all_the_way and not resting():
+            self.note(f"again {mug}")  # it hangs tilted, or stands on an edge: up, straight, down
+            p, _ = self.hand_pose(side)
+            level = self.level_rotation(side, body)
+            yield from self.until(self.move_hand(side, p + np.array([0.0, 0.0, 0.03]), level, HOLD, spread=0.0))
+            yield from self.lower_until(side, level, 0.03 + OVER_TRAY, 0.4, resting)
         self.hold_hand(side, HOLD, tremor=0.2)
         yield from self.wait(0.1)
-        yield from self.release(side, back=0.08, up=0.06, relax=True)
+        yield from self.release(side, back=0.08, up=0.06, relax=relax)
 
 
 __all__ = ["CupLoadExpert"]
