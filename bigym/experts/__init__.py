@@ -25,7 +25,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.dishwasher_plates`,
 :mod:`~bigym.experts.dishwasher_load_plates`,
 :mod:`~bigym.experts.dishwasher_load_cups`,
-:mod:`~bigym.experts.dishwasher_unload_cups` (the task scripts),
+:mod:`~bigym.experts.dishwasher_unload_cups`, :mod:`~bigym.experts.put_cups` (the task
+scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -75,6 +76,7 @@ EXPERTS: dict[str, str] = {
     "DishwasherLoadPlates": "bigym.experts.dishwasher_load_plates:PlateLoadExpert",
     "DishwasherLoadCups": "bigym.experts.dishwasher_load_cups:CupLoadExpert",
     "DishwasherUnloadCups": "bigym.experts.dishwasher_unload_cups:CupUnloadExpert",
+    "PutCups": "bigym.experts.put_cups:PutCupsExpert",
 }
 
 

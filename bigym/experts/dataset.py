@@ -66,6 +66,7 @@ DATASET_TASKS = (
     "DishwasherLoadPlates",
     "DishwasherLoadCups",
     "DishwasherUnloadCups",
+    "PutCups",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

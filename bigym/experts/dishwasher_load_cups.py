@@ -153,18 +153,28 @@ class CupLoadExpert(FlipCupExpert):
         approach: float | None = None,
         feel_all_the_way: bool = False,
         relax: bool = True,
+        upright: bool = False,
+        looks: int = LOOKS,
+        seen_off: float = SEEN_OFF,
+        tilt: float = SET_DOWN_TILT,
     ) -> Script:
-        """Bring the held mug upside down over ``target`` (x, y, and the top z of the
-        ``support`` geoms' surface), lower it until its rim rests there, let go. With
-        ``approach`` (rad, from +x), the hand turns the mug about its axis so that it
-        comes at the handle that way. The hand lowers it at most a few centimetres past
-        where it should rest; ``feel_all_the_way``: past where it is seen to be (a hand
-        that did not get down to where it was sent), and one that is not resting then is
-        lifted, straightened and lowered again. ``relax``: the arm relaxes afterwards."""
+        """Bring the held mug upside down (``upright``: the right way up) over ``target``
+        (x, y, and the top z of the ``support`` geoms' surface), look at it and move it over
+        its place (``looks`` times at most, until it is within ``seen_off`` m), lower it
+        until it rests there (touches the support within ``tilt`` rad of straight), let go.
+        With ``approach`` (rad, from +x), the hand turns the
+        mug about its axis so that it comes at the handle that way. The hand lowers it at
+        most a few centimetres past where it should rest; ``feel_all_the_way``: past where
+        it is seen to be (a hand that did not get down to where it was sent), and one that
+        is not resting then is lifted, straightened and lowered again. ``relax``: the arm
+        relaxes afterwards."""
         body = self.env.props[mug].root_body_id
-        target = np.array([target[0], target[1], target[2] + self.env.props[mug].height + OVER_TRAY])
+        # the mug's origin is at its base: upside down, a mug's height above its rim
+        bottom = 0.0 if upright else self.env.props[mug].height
+        up = 1.0 if upright else -1.0
+        target = np.array([target[0], target[1], target[2] + bottom + OVER_TRAY])
         p, _ = self.hand_pose(side)
-        level = self.level_rotation(side, body)  # straight upside down, as it is put down
+        level = self.level_rotation(side, body)  # straight, as it is put down
         turn = np.eye(3)
         if approach is not None:
             now = level[:2, 2] / np.linalg.norm(level[:2, 2])
@@ -172,17 +182,17 @@ class CupLoadExpert(FlipCupExpert):
         level = turn @ level
         goal = target + turn @ (p - self.data.xpos[body])
         yield from self.until(self.move_hand(side, goal, level, HOLD, spread=0.1, tremor=0.3))
-        for _ in range(LOOKS):  # the arm sags a little reaching this low: look, and correct
+        for _ in range(looks):  # the arm sags a little reaching this low: look, and correct
             off = target - self.data.xpos[body]
             off[2] = 0.0
-            if np.linalg.norm(off) < SEEN_OFF:
+            if np.linalg.norm(off) < seen_off:
                 break
             p, _ = self.hand_pose(side)
             yield from self.until(self.move_hand(side, p + off, level, HOLD, duration=0.4, spread=0.0, tremor=0.2))
         frame = self.data.xmat[body]
 
         def resting() -> bool:
-            return self.env.touching(self.env.mask(mug), support) and -frame[8] >= np.cos(SET_DOWN_TILT)
+            return self.env.touching(self.env.mask(mug), support) and up * frame[8] >= np.cos(tilt)
 
         depth = OVER_TRAY + 0.03
         if feel_all_the_way:
