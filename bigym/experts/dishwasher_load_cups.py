@@ -162,12 +162,11 @@ class CupLoadExpert(FlipCupExpert):
         (x, y, and the top z of the ``support`` geoms' surface), look at it and move it over
         its place (``looks`` times at most, until it is within ``seen_off`` m), lower it
         until it rests there (touches the support within ``tilt`` rad of straight), let go.
-        With ``approach`` (rad, from +x), the hand turns the
-        mug about its axis so that it comes at the handle that way. The hand lowers it at
-        most a few centimetres past where it should rest; ``feel_all_the_way``: past where
-        it is seen to be (a hand that did not get down to where it was sent), and one that
-        is not resting then is lifted, straightened and lowered again. ``relax``: the arm
-        relaxes afterwards."""
+        With ``approach`` (rad, from +x), the hand turns the mug about its axis so that it
+        comes at the handle that way. The hand lowers it at most a few centimetres past
+        where it should rest; ``feel_all_the_way``: past where it is seen to be (a hand
+        that did not get down to where it was sent), and one that is not resting then is
+        lifted, straightened and lowered again. ``relax``: the arm relaxes afterwards."""
         body = self.env.props[mug].root_body_id
         # the mug's origin is at its base: upside down, a mug's height above its rim
         bottom = 0.0 if upright else self.env.props[mug].height

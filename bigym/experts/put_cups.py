@@ -104,7 +104,6 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
 
     tasks = ("PutCups",)
     pace: ClassVar[dict[str, float]] = {"PutCups": PACE}
-    counter_front = COUNTER_FRONT
 
     def plan(self) -> Script:
         centres = {mug: self.data.xpos[self.env.props[mug].root_body_id].copy() for mug in MUGS}
