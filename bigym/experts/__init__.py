@@ -25,8 +25,8 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.dishwasher_plates`,
 :mod:`~bigym.experts.dishwasher_load_plates`,
 :mod:`~bigym.experts.dishwasher_load_cups`,
-:mod:`~bigym.experts.dishwasher_unload_cups`, :mod:`~bigym.experts.put_cups` (the task
-scripts),
+:mod:`~bigym.experts.dishwasher_unload_cups`, :mod:`~bigym.experts.put_cups`,
+:mod:`~bigym.experts.take_cups` (the task scripts),
 :mod:`~bigym.experts.generate` (``generate_demos``: record, replay from file, keep
 verified successes),
 :mod:`~bigym.experts.incidents` (drops and objects pushed into surfaces reject a demo),
@@ -77,6 +77,7 @@ EXPERTS: dict[str, str] = {
     "DishwasherLoadCups": "bigym.experts.dishwasher_load_cups:CupLoadExpert",
     "DishwasherUnloadCups": "bigym.experts.dishwasher_unload_cups:CupUnloadExpert",
     "PutCups": "bigym.experts.put_cups:PutCupsExpert",
+    "TakeCups": "bigym.experts.take_cups:TakeCupsExpert",
 }
 
 

@@ -16,7 +16,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from bigym.experts.doors import DoorSkills
+from bigym.experts.doors import DONE_MARGIN, DoorSkills
 from bigym.experts.drawers import DrawerSkills
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script, together
 
@@ -105,9 +105,22 @@ class CupboardExpert(DoorSkills, DrawerSkills):
         self._note_hand(job, side)
         return side
 
-    def wall_doors(self, keys: list[str], goal: float) -> Script:
-        """Both wall-cupboard doors: one hand each at once, or one after the other."""
-        both = len(keys) == 2 and self.rng.random() < (0.4 if goal > 0.5 else 0.5)
+    def wall_doors(
+        self,
+        keys: list[str],
+        goal: float,
+        margin: float = DONE_MARGIN,
+        both_hands: float | None = None,
+        second_after: tuple[float, float] = (1.6, 2.2),
+        relax: bool = True,
+    ) -> Script:
+        """Both wall-cupboard doors: one hand each at once (with probability ``both_hands``;
+        by default 0.4 opening, 0.5 closing), the second hand starting ``second_after`` (a
+        range, s) after the first when opening; or one after the other; ``margin`` and
+        ``relax`` as :meth:`door`'s."""
+        if both_hands is None:
+            both_hands = 0.4 if goal > 0.5 else 0.5
+        both = len(keys) == 2 and self.rng.random() < both_hands
         if both:
             self._note_hand(f"{WALL_PROP}/both", "both")
             sides = {key: self.door_side(WALL_PROP, key) for key in keys}
@@ -119,11 +132,13 @@ class CupboardExpert(DoorSkills, DrawerSkills):
             # opening, the second hand waits until the first door has swung aside (the two
             # handles are side by side, too close for two grippers at once)
             first = int(self.rng.integers(2))
-            delay = float(self.rng.uniform(1.6, 2.2)) if goal > 0.5 else abs(self.human.jitter(0.15))
+            delay = float(self.rng.uniform(*second_after)) if goal > 0.5 else abs(self.human.jitter(0.15))
             scripts = [
-                self.door(sides[key], WALL_PROP, key, goal, base=False)
+                self.door(sides[key], WALL_PROP, key, goal, base=False, margin=margin, relax=relax)
                 if i == first
-                else self.after(delay, self.door(sides[key], WALL_PROP, key, goal, base=False))
+                else self.after(
+                    delay, self.door(sides[key], WALL_PROP, key, goal, base=False, margin=margin, relax=relax)
+                )
                 for i, key in enumerate(keys)
             ]
             yield from together(*scripts)
@@ -134,5 +149,5 @@ class CupboardExpert(DoorSkills, DrawerSkills):
                 # in front of the other, maybe open, door
                 side = self.door_side(WALL_PROP, key)
                 self._note_hand(f"{WALL_PROP}/{key}", side)
-                yield from self.door(side, WALL_PROP, key, goal)
+                yield from self.door(side, WALL_PROP, key, goal, margin=margin, relax=relax)
                 yield from self.hesitate()

@@ -67,6 +67,7 @@ DATASET_TASKS = (
     "DishwasherLoadCups",
     "DishwasherUnloadCups",
     "PutCups",
+    "TakeCups",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

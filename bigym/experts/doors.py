@@ -96,6 +96,8 @@ class DoorSkills(Expert):
         base: bool = True,
         attempts: int = 3,
         push_past: float = 2.5 * OVERSHOOT,
+        margin: float = DONE_MARGIN,
+        relax: bool = True,
     ) -> Script:
         """Open or close one hinged door with one hand.
 
@@ -105,12 +107,18 @@ class DoorSkills(Expert):
         ``base=False``: the base stays where it is (the other hand may be busy too).
         ``push_past``: how far (normalised) past the goal the push aims; a door that opens
         to its stop needs little (an arm pressing on against a stopped door strains).
+        ``margin``: how near the goal (normalised) is near enough (a door that only has to
+        be out of the way need not be opened all the way). ``relax``: the arm relaxes
+        once the door is there (else the hand stays where it let go, for the caller to
+        take it away).
         """
         follow = 0.4 if base else 0.0
         switch = float(np.clip(self.rng.normal(0.5, 0.05), 0.4, 0.6))
         keep_out = self.keep_out_of_sweep(prop, key) if base else None
         try:
-            yield from self._door_attempts(side, prop, key, goal, base, follow, switch, attempts, push_past)
+            yield from self._door_attempts(
+                side, prop, key, goal, base, follow, switch, attempts, push_past, margin, relax
+            )
         finally:
             if keep_out is not None:
                 planes = self.ik.base_region.planes
@@ -147,10 +155,10 @@ class DoorSkills(Expert):
         self.ik.base_region.planes.append(plane)
         return plane
 
-    def _door_attempts(self, side, prop, key, goal, base, follow, switch, attempts, push_past) -> Script:
+    def _door_attempts(self, side, prop, key, goal, base, follow, switch, attempts, push_past, margin, relax) -> Script:
         for attempt in range(attempts):
             state = self.joint_state(prop, key)
-            if abs(state - goal) < DONE_MARGIN:
+            if abs(state - goal) < margin:
                 return
             if attempt:
                 self.note(f"correct {prop}/{key} at {state:.2f}")
@@ -166,8 +174,8 @@ class DoorSkills(Expert):
             else:
                 direction = yield from self.press_door(side, prop, key, inner=False, base=base)
                 yield from self.drag([side], prop, key, -push_past, base_follow=follow, orientation_cost=FIRM * 0.3)
-            done = abs(self.joint_state(prop, key) - goal) < DONE_MARGIN
-            yield from self.release(side, back=0.08, away=-direction, relax=done)
+            done = abs(self.joint_state(prop, key) - goal) < margin
+            yield from self.release(side, back=0.08, away=-direction, relax=done and relax)
 
     def press_door(self, side: int, prop: str, key: str, inner: bool, base: bool = True) -> Script:
         """A fist against a door near its free edge: on the inner face to push it open,

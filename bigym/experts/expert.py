@@ -573,6 +573,7 @@ class Expert:
         align: np.ndarray = ALIGN_BAR,
         opening: float = 0.0,
         keep_sign: bool = False,
+        insert_time: float = 0.35,
     ) -> Script:
         """Reach a bar handle, straddle it with the open fingers, and close them.
 
@@ -582,7 +583,8 @@ class Expert:
         correction), then slides in slowly. ``opening`` pre-closes the fingers that far (0 =
         wide open), as a hand shapes itself to a thin handle near a surface. With
         ``keep_sign`` the pinch x axis points along ``bar_axis`` as given (a grasp chosen for
-        what the hand does next), not the way nearer to the hand.
+        what the hand does next), not the way nearer to the hand. ``insert_time``: the
+        slide in takes at least this long (s).
         """
         self.note(f"reach bar {'LR'[side]}")
         approach = axis_angle_matrix(bar_axis, tilt) @ approach
@@ -606,7 +608,7 @@ class Expert:
         yield from self.until(max(ends))
         yield from self.hesitate()
         self.note(f"insert {'LR'[side]}")
-        insert = max(0.35, self.human.duration(standoff, 0.004) * 0.6)
+        insert = max(insert_time, self.human.duration(standoff, 0.004) * 0.6)
         yield from self.until(self.move_hand(side, grasp, rotation, align, duration=insert, spread=0.05, tremor=0.5))
         # a settled hand before the fingers close: a replay at a lower control rate may close
         # them up to one control step (50 ms at 20 Hz) earlier than recorded

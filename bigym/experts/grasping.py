@@ -251,17 +251,19 @@ class GraspingExpert(Expert):
         base: np.ndarray,
         via: Sequence[np.ndarray] = (),
         speed: float = 1.0,
+        duration: float | None = None,
     ) -> float:
         """Move a hand to ``goal`` in the body's frame (``base``: the body's pose it is
         measured from now), through the ``via`` points (also in the body's frame), keeping
-        its orientation in that frame, ``speed`` times as fast as a free movement; it then
-        stays there as the body moves, so it can start before a walk does. Returns the end
-        time."""
+        its orientation in that frame, ``speed`` times as fast as a free movement (or over
+        ``duration`` s); it then stays there as the body moves, so it can start before a
+        walk does. Returns the end time."""
         p, r = self.hand_pose(side)
         local_p, local_r = to_base(base, p, r)
         points = [local_p, *via, goal]
-        length = sum(float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points))
-        duration = self.human.duration(length, 0.05) / speed
+        if duration is None:
+            length = sum(float(np.linalg.norm(b - a)) for a, b in itertools.pairwise(points))
+            duration = self.human.duration(length, 0.05) / speed
         path = self.human.path(points, duration)
         t0 = self.time
         self.hands[side] = HandReference(

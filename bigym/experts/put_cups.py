@@ -177,20 +177,36 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
             ends.append(self.move_hand(side, p + np.array([0.0, 0.0, lift]), r, HOLD, duration=duration, spread=0.0))
         yield from self.until(max(ends))
 
-    def take_handle_of(self, side: int, mug: str) -> Script:
+    def take_handle_of(self, side: int, mug: str, opening: float = 0.0, insert_time: float = 0.35) -> Script:
         """Reach the top of the mug's handle bar, the hand level and nearly straight ahead,
-        and close the fingers on it."""
+        and close the fingers on it; ``opening``: how far the fingers are closed beforehand
+        (0: wide open), the hand shaped to the thin bar; ``insert_time``: the least time
+        (s) the hand takes to slide in round it."""
         self.note(f"take {mug} {'LR'[side]}")
+        handle, level = self.handle_approach(side, mug)
+        yield from self.grasp_bar(
+            side,
+            handle,
+            np.array([0.0, 0.0, 1.0]),
+            level,
+            depth=0.0,
+            close=False,
+            opening=opening,
+            insert_time=insert_time,
+        )
+        yield from self.settle(side, handle, 0.008, 0.5)
+        yield from self.set_grip(side, 1.0)
+
+    def handle_approach(self, side: int, mug: str) -> tuple[np.ndarray, np.ndarray]:
+        """Where ``side``'s fingers close on the mug's handle (near the top of its bar), and
+        the level direction the hand comes at it from."""
         handle = self.site(mug, "handle") + np.array([0.0, 0.0, GRIP_ABOVE])
         radial = self.data.xpos[self.env.props[mug].root_body_id] - handle
         # the arm's five joints give a level hand only about as it points from the body:
         # the hand comes at the bar from nearly straight ahead, not through the mug's middle
         forward = self.base_pose()[3]
         turn = np.clip(np.arctan2(radial[1], radial[0]) - forward, -APPROACH_TURN, APPROACH_TURN)
-        level = np.array([np.cos(forward + turn), np.sin(forward + turn), 0.0])
-        yield from self.grasp_bar(side, handle, np.array([0.0, 0.0, 1.0]), level, depth=0.0, close=False)
-        yield from self.settle(side, handle, 0.008, 0.5)
-        yield from self.set_grip(side, 1.0)
+        return handle, np.array([np.cos(forward + turn), np.sin(forward + turn), 0.0])
 
     def stand_at_cabinet(self, mug_of: dict[int, str]) -> Script:
         """Stand up, bringing the held mugs up in front of the cabinet (not under it: they
