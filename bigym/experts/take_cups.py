@@ -6,8 +6,8 @@ each, the second once the first door is pushed open (the mugs stand across the w
 shelf, often one right behind where the doors meet); draws both hands straight back
 from the doors, steps in and raises them between the open doors to the handles' height,
 reaches in and takes each mug by the top of its handle's upright bar, both at once (when
-the handles are close, one mug is taken first and moved aside along the shelf to make
-room for the other hand), lifts them off the shelf, steps back until they are out of
+the handles are close, or one is further in, one mug is taken first and moved aside or
+forward along the shelf to make room for the other hand), lifts them off the shelf, steps back until they are out of
 the cabinet, drawing them in towards the middle, crouches with them held out in front
 until they are just over the counter, and puts both down, one a moment after the other,
 each lowered until it rests upright, let go.
@@ -15,8 +15,10 @@ each lowered until it rests upright, let go.
 Why the body stands back to reach in, and steps back and crouches to bring the mugs out
 and down: the H1's wrist only rolls, so the hand points where the forearm does and is
 level (comes at an upright bar level, and holds the mug upright) only with the arm nearly
-straight out; so the arms stay straight and the body does the moving, the mugs coming
-down no faster than the body does. Why the hands keep between the doors' free edges and
+straight out; so each hand comes at its handle along the line from its shoulder, the
+arms stay straight and the body does the moving, the mugs coming down no faster than the
+body does. The hand slides in round the handle slowly: faster, the stretched-out arm
+lagged behind its path and the fingers caught the handle's side and spun the mug away. Why the hands keep between the doors' free edges and
 leave the doors straight back: a hand or a mug that brushed an open door's edge from
 outside swung it shut.
 
@@ -40,7 +42,8 @@ from bigym.experts.put_cups import DOORS, GRIP_ABOVE, PutCupsExpert
 MUGS = ("mug_1", "mug_2")
 #: how much faster than usual the demonstrator works: 26 s for two doors and two mugs
 PACE = 1.5
-#: a door three quarters open (normalised) is out of the way of the arms and the mugs
+#: a door within this (normalised) of fully open is open enough (a door left further
+#: closed caught the hand reaching for the mug beside it)
 DOOR_MARGIN = 0.1
 #: the doors are opened from one place, one hand each, the second hand starting this long
 #: (s) after the first: once the first door is pushed open (sooner, the second arm knocked
@@ -56,13 +59,14 @@ SHOULDER_HALF_WIDTH = 0.21
 #: a hand that missed its handle tries again, the body first stepping in by as much as
 #: the fingers were short of it, at most this far (m)
 MAX_STEP_IN = 0.06
+#: the hands are first drawn back from the doors to this x, in front of the open doors'
+#: free edges
+CLEAR_OF_DOORS = 0.45
 #: the hand reaching for a mug comes up to the handle's height between the open doors,
 #: this far (m) in front of the pelvis (a hand held nearer, level, pushed the body back),
 #: then this far (m) in front of the handle (from below, it caught on the shelf's front
 #: edge)
 CLEAR_REACH = 0.4
-#: x in front of the open doors' free edges
-CLEAR_OF_DOORS = 0.45
 FRONT = 0.25
 #: the hand comes in no further out (|y|, m) than this past the doors' free edges: the
 #: fingers, shaped to the thin handle (closed this far), stay clear of them
@@ -71,7 +75,7 @@ OPENING = 0.5
 #: the hand slides in round the handle over this long at least (s): faster, the arm
 #: stretched out lagged behind and the fingers caught the handle's side
 INSERT_TIME = 0.7
-#: and the two hands at least this far (m) apart
+#: the two hands come up between the doors at least this far (m) apart
 HANDS_APART = 0.16
 #: handles at least this far apart (y, m) are taken with both hands at once; nearer, one
 #: mug is taken first and moved aside along the shelf, its middle no further than
