@@ -27,3 +27,19 @@ import bigym  # noqa: E402,F401  (registers the gymnasium ids)
 def _run_in_tmp_dir(tmp_path, monkeypatch):
     """MuJoCo appends its warnings to ./MUJOCO_LOG.TXT: keep that out of the repository."""
     monkeypatch.chdir(tmp_path)
+
+
+@pytest.fixture
+def run_episode():
+    """A function that steps ``env`` with ``policy`` from ``obs`` until the episode ends
+    (success, failure or time limit) and returns the last step's info."""
+
+    def run(env, policy, obs) -> dict:
+        info: dict = {}
+        for _ in range(env.max_episode_steps):
+            obs, _, terminated, truncated, info = env.step(policy(obs))
+            if terminated or truncated:
+                break
+        return info
+
+    return run

@@ -28,14 +28,10 @@ def env():
     env.close()
 
 
-def test_each_plate_ends_upright_all_the_way_down_in_the_gap_chosen_for_it(env):
+def test_each_plate_ends_upright_all_the_way_down_in_the_gap_chosen_for_it(env, run_episode):
     obs, _ = env.reset(seed=1)
     expert = PlateLoadExpert(env, seed=1)
-    info = {}
-    for _ in range(env.max_episode_steps):
-        obs, _, terminated, truncated, info = env.step(expert(obs))
-        if terminated or truncated:
-            break
+    info = run_episode(env, expert, obs)
     assert info.get("is_success"), expert.events
     tray = env.props[DISHWASHER]
     rests = [tray.site_pos(env.data, key) + LOAD_IN_SLOT for key in FRONT_ROW]  # where the tray is now

@@ -27,14 +27,10 @@ def env():
     env.close()
 
 
-def test_each_mug_ends_upside_down_resting_on_the_counter(env):
+def test_each_mug_ends_upside_down_resting_on_the_counter(env, run_episode):
     obs, _ = env.reset(seed=0)
     expert = CupUnloadExpert(env, seed=0)
-    info = {}
-    for _ in range(env.max_episode_steps):
-        obs, _, terminated, truncated, info = env.step(expert(obs))
-        if terminated or truncated:
-            break
+    info = run_episode(env, expert, obs)
     assert info.get("is_success"), expert.events
     ys = []
     for mug in env.items:

@@ -23,14 +23,10 @@ def env():
     env.close()
 
 
-def test_both_mugs_end_upright_behind_the_one_open_door(env):
+def test_both_mugs_end_upright_behind_the_one_open_door(env, run_episode):
     obs, _ = env.reset(seed=1)
     expert = PutCupsExpert(env, seed=1)
-    info = {}
-    for _ in range(env.max_episode_steps):
-        obs, _, terminated, truncated, info = env.step(expert(obs))
-        if terminated or truncated:
-            break
+    info = run_episode(env, expert, obs)
     assert info.get("is_success"), expert.events
     (job,) = expert.choices["hands"]
     door = job.split(":")[0].removeprefix(f"{CABINET}/")
