@@ -68,6 +68,7 @@ DATASET_TASKS = (
     "DishwasherUnloadCups",
     "PutCups",
     "TakeCups",
+    "StoreGroceriesUpper",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

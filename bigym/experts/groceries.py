@@ -43,6 +43,7 @@ fingers close, the timing, and every path's via-points.
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import ClassVar
 
 import mujoco
@@ -183,14 +184,13 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         return reach
 
     # ------------------------------------------------------------------ steps
-    def take_item(self, side: int, item: str) -> Script:
-        """Step up to the counter in line with the item, hands at the hips, and take it."""
-        self.note(f"to {item}")
-        body = self.env.props[item].root_body_id
-        position = self.data.xpos[body].copy()
+    def item_stance(self, side: int, item: str) -> np.ndarray:
+        """Where the body stands (x, y, z, yaw) to take an item with ``side``'s hand: at the
+        counter, the hand's shoulder in line with the item, turned as the grasp needs."""
+        position = self.data.xpos[self.env.props[item].root_body_id]
         lateral = HAND_OFFSET if side == LEFT else -HAND_OFFSET
         _, turn = self.closing(side, item)
-        stance = np.array(
+        return np.array(
             [
                 FRONT - TABLE_CLEARANCE - 0.02 - abs(self.human.jitter(0.02)),
                 position[1] - lateral + self.human.jitter(0.03),
@@ -198,9 +198,18 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
                 turn + self.human.jitter(0.04),
             ]
         )
+
+    def take_item(self, side: int, item: str, holding: Sequence[int] = ()) -> Script:
+        """Step up to the counter in line with the item, the free hands at the hips (the
+        ``holding`` hands keep what they hold where they hold it), and take it."""
+        self.note(f"to {item}")
+        body = self.env.props[item].root_body_id
+        position = self.data.xpos[body].copy()
+        stance = self.item_stance(side, item)
         for hand in (LEFT, RIGHT):
-            self.hand_to_hip(hand, wider=HIP_WIDER[hand])
-        yield from self.walk([self.clamp_to_region(stance)])
+            if hand not in holding:
+                self.hand_to_hip(hand, wider=HIP_WIDER[hand])
+        yield from self.walk([self.clamp_to_region(stance)], carrying=holding)
         height = GRIP_HEIGHT + self.human.jitter(0.008)
 
         def aim() -> tuple[np.ndarray, np.ndarray]:
