@@ -120,6 +120,11 @@ class Expert:
     #: the fastest fall (m/s down) that is not a dropped object (default
     #: :data:`bigym.experts.incidents.DROP_SPEED`)
     drop_speeds: ClassVar[dict[str, float]] = {}
+    #: the task's success can flicker before the job is done (a hold whose contacts come
+    #: and go while the object touches its target): a recording of this expert ends only
+    #: once the task has been successful for a whole ``AFTER_SUCCESS`` (see
+    #: :func:`bigym.experts.generate.record_attempt`), not that long after the first success
+    success_must_last: ClassVar[bool] = False
 
     def __init__(self, env, seed: int | None = None, style: HumanStyle | None = None, ik_rate: float = 100.0) -> None:
         self.env = env.unwrapped

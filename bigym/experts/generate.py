@@ -169,6 +169,11 @@ def record_attempt(
     ``VERIFY_RATES``, what a dataset demo must pass). ``expert_class``: an expert not (yet)
     in the registry, e.g. one under development (default: the task's registered expert).
 
+    The recording ends ``AFTER_SUCCESS`` s after the first success; for an expert whose
+    ``success_must_last``, once the task has been successful for the step that succeeds and
+    ``AFTER_SUCCESS`` s after it without a break (the same end when the first success holds;
+    "success did not last" when no such stretch begins within the time limit).
+
     ``date``: the date written into the demo (default now); with a fixed date the demo's
     bytes depend only on the task, seed, style and versions, and on this process's numpy
     kernels: :func:`generate_demos` runs it in workers with pinned kernels, so that its
@@ -187,9 +192,11 @@ def record_attempt(
     else:
         expert = expert_class(env, seed=seed, style=human_style)
     watch = IncidentWatch(env, expert.drop_speeds)
+    margin = round(AFTER_SUCCESS * CONTROL_FREQUENCY)
     after = None
+    lasted = 0  # steps the success has held without a break (experts whose success must last)
     info: dict = {}
-    for _ in range(env.unwrapped.max_episode_steps + round(AFTER_SUCCESS * CONTROL_FREQUENCY)):
+    for _ in range(env.unwrapped.max_episode_steps + margin):
         obs, _, terminated, truncated, info = recorder.step(expert(obs))
         if "unstable" in info:
             break
@@ -199,7 +206,14 @@ def record_attempt(
             recorder.discard()
             return Attempt(index, seed, False, f"rejected: {incident}", None, duration, dict(expert.choices))
         if recorder.first_success_step is not None:
-            after = round(AFTER_SUCCESS * CONTROL_FREQUENCY) if after is None else after - 1
+            if expert.success_must_last:
+                # the step that succeeds and a whole margin after it: a success that holds
+                # from the first gives the same recording as the plain rule
+                lasted = lasted + 1 if info.get("is_success", False) else 0
+                if lasted > margin:
+                    break
+                continue
+            after = margin if after is None else after - 1
             if after <= 0:
                 break
             continue
@@ -211,6 +225,9 @@ def record_attempt(
         reason = failure_reason(env, info)
         recorder.discard()
         return Attempt(index, seed, False, reason, None, duration, choices)
+    if expert.success_must_last and lasted <= margin:
+        recorder.discard()
+        return Attempt(index, seed, False, "success did not last", None, duration, choices)
     demo = recorder.to_demo(
         uuid=demo_uuid(task, seed, style),
         date=date,
