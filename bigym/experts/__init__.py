@@ -20,6 +20,7 @@ Modules: :mod:`~bigym.experts.expert` (the base class, skills, actions),
 :mod:`~bigym.experts.boxes`, :mod:`~bigym.experts.store_box`,
 :mod:`~bigym.experts.flip_cup`, :mod:`~bigym.experts.flip_cutlery`,
 :mod:`~bigym.experts.groceries`, :mod:`~bigym.experts.groceries_upper`,
+:mod:`~bigym.experts.sandwich`,
 :mod:`~bigym.experts.dishwasher_cutlery`,
 :mod:`~bigym.experts.dishwasher_load_cutlery`,
 :mod:`~bigym.experts.dishwasher_unload_cutlery_long`,
@@ -80,6 +81,7 @@ EXPERTS: dict[str, str] = {
     "DishwasherUnloadCups": "bigym.experts.dishwasher_unload_cups:CupUnloadExpert",
     "PutCups": "bigym.experts.put_cups:PutCupsExpert",
     "TakeCups": "bigym.experts.take_cups:TakeCupsExpert",
+    "SandwichRemove": "bigym.experts.sandwich:SandwichRemoveExpert",
 }
 
 

@@ -69,6 +69,7 @@ DATASET_TASKS = (
     "PutCups",
     "TakeCups",
     "StoreGroceriesUpper",
+    "SandwichRemove",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went
