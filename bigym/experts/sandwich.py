@@ -5,8 +5,8 @@ What a person does: takes the spatula lying in the pan by the end of its handle,
 handle pointing along the forearm like a pen's (the fingers close on the handle's top and
 bottom faces, where a flat handle is held stiffly: closed on its sides, it would pivot
 between the pads under the blade's load), and opens them a little and slides the hand
-further up if it closed on the handle's very end; lifts it off the sandwich; stands up and holds
-the blade steeply in the gap between the sandwich and the pan's near wall, square to the
+further up if it closed on the handle's very end; lifts it off the sandwich; stands up
+and holds the blade steeply in the gap between the sandwich and the pan's near wall, square to the
 sandwich's edge; pushes it in along the pan's floor, flattening it only as far as the
 rim lets the blade and then the handle pass over it. The sandwich slides until it meets
 the far wall, and its rounded edge rides up onto the blade. They lift it over the rim,

@@ -13,7 +13,7 @@ import pytest
 
 from bigym.action_modes import JointPositionActionMode
 from bigym.envs.sandwich import PAN_FLOOR, SandwichRemove
-from bigym.experts.sandwich import PAN, SANDWICH, SPATULA, SandwichRemoveExpert
+from bigym.experts.sandwich import GRIP, PAN, REGRIP_SHORT, SANDWICH, SPATULA, SandwichRemoveExpert
 from bigym.props import FryingPan, Sandwich
 
 
@@ -56,3 +56,16 @@ def test_the_blade_goes_in_square_to_a_face_of_the_sandwich(env):
             obs, *_ = env.step(expert(obs))
         faces.add(expert.choices["face"])
     assert len(faces) > 1  # which face depends on how the sandwich lies: not always the same
+
+
+def test_a_hand_that_closed_on_the_handles_end_takes_it_further_up(env):
+    # on seed 10 the fingers shove the spatula along as they slide in and close on the
+    # handle's last 3 cm; the hand must slide up and hold it near GRIP before pushing
+    obs, _ = env.reset(seed=10)
+    expert = SandwichRemoveExpert(env, seed=10)
+    obs, *_ = env.step(expert(obs))
+    while not any(text == "slide under" for _, text in expert.events):
+        obs, *_ = env.step(expert(obs))
+        assert env.data.time < 15.0, f"never got to the push: {expert.events}"
+    assert any("further up" in text for _, text in expert.events)
+    assert GRIP[1] - expert.held[0][1] <= REGRIP_SHORT
