@@ -136,6 +136,8 @@ class GraspingExpert(Expert):
         cost: np.ndarray = GRASP,
         thin: bool = True,
         upright: bool = False,
+        adjust: int = 0,
+        firm: float = 0.0,
     ) -> Generator[None, None, bool]:
         """Take an object from above and lift it ``lift`` metres; ``aim()`` gives the pinch
         point and the closing direction from the object as it lies now. A grasp that
@@ -147,7 +149,11 @@ class GraspingExpert(Expert):
         neighbour close beside it. ``tilt`` and ``cost``: how steeply the hand comes down and
         how firmly the IK keeps its orientation (see :data:`GRASP`). ``thin`` False: the
         named object is thick, so fingers closed almost fully hold nothing even if one
-        touches it. ``upright``: see :meth:`grasp_rotation`. Returns whether it holds."""
+        touches it. ``upright``: see :meth:`grasp_rotation`. ``adjust``: how often at most the
+        hand, seen to have stopped more than ``SETTLE_DISTANCE`` from the pinch point, moves by
+        what it missed before closing (where the IK falls short of the point, a move by the
+        error gets there). ``firm``: how long (s) the closed fingers hold still before the
+        lift, so that the grip on a thin rim is firm. Returns whether it holds."""
         for attempt in range(attempts):
             self.note(f"pick {'LR'[side]}" + (f" again ({attempt})" if attempt else ""))
             point, closing = aim()
@@ -171,7 +177,9 @@ class GraspingExpert(Expert):
             yield from self.until(end + 0.1)
             if prop is not None:  # a thin object is taken only once the fingers are round it
                 yield from self.settle(side, point, SETTLE_DISTANCE, MAX_SETTLE)
+            yield from self.adjust_pinch(side, point, adjust)
             yield from self.set_grip(side, 1.0, max_wait=0.8, min_wait=0.35)
+            yield from self.wait(firm)
             closed_on_something = float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP
             if prop is None:
                 holds = closed_on_something
@@ -273,6 +281,22 @@ class GraspingExpert(Expert):
             tremor=0.5,
         )
         return t0 + duration
+
+    def adjust_pinch(self, side: int, point: np.ndarray, tries: int) -> Script:
+        """Move the hand by how far its pinch point is from ``point`` (when more than
+        ``SETTLE_DISTANCE``), at most ``tries`` times: a person sees the fingers short of
+        the spot and moves them there."""
+        site = self.env.robot.pinch_site_ids[side]
+        for _ in range(tries):
+            error = self.data.site_xpos[site] - point
+            if np.linalg.norm(error) <= SETTLE_DISTANCE:
+                break
+            self.note(f"adjust {'LR'[side]} {np.linalg.norm(error) * 1000:.0f}")
+            reference, rotation = self.hand_pose(side)
+            end = self.move_hand(
+                side, reference - error, rotation, GRASP, spread=0.0, precision=0.004, speed=0.5, tremor=0.3
+            )
+            yield from self.until(end + 0.1)
 
     def settle(self, side: int, point: np.ndarray, distance: float, max_wait: float) -> Script:
         """Wait (at most ``max_wait`` s) until the hand's pinch point is within ``distance``."""

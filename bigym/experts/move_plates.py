@@ -170,9 +170,11 @@ class MovePlateExpert(GraspingExpert):
         y = float(self.data.xpos[self.env.props[plate].root_body_id][1])
         return y - (LATERAL if side == LEFT else -LATERAL) + self.human.jitter(0.03)
 
-    def take_plate(self, side: int, plate: str, opening: float = 0.0, well: bool = False) -> Script:
+    def take_plate(
+        self, side: int, plate: str, opening: float = 0.0, well: bool = False, adjust: int = 0, firm: float = 0.0
+    ) -> Script:
         """Take ``plate`` by the top of its rim, or (``well``) by its flat well near the
-        front (see the module docstring)."""
+        front (see the module docstring); ``adjust`` and ``firm`` as for :meth:`pick`."""
         body = self.env.props[plate].root_body_id
         grasp = {}
         if well:
@@ -195,7 +197,9 @@ class MovePlateExpert(GraspingExpert):
             return centre + (np.cos(angle) * up + np.sin(angle) * toward) * radius, normal
 
         lift = LIFT + abs(self.human.jitter(0.01))
-        if not (yield from self.pick(side, aim, lift=lift, prop=plate, opening=opening, **grasp)):
+        if not (
+            yield from self.pick(side, aim, lift=lift, prop=plate, opening=opening, adjust=adjust, firm=firm, **grasp)
+        ):
             self.note(f"gave up on {plate}")
             while True:
                 yield

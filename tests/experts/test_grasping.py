@@ -1,13 +1,17 @@
-"""Grasping skills' geometry: which faces a hand closes on, and how the base walks a route."""
+"""Grasping skills: which faces a hand closes on, how the base walks a route, how a pinch is adjusted."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
+from bigym.action_modes import JointPositionActionMode
+from bigym.envs.manipulation import StackBlocks
 from bigym.experts import make_expert
+from bigym.experts.expert import LEFT
 from bigym.experts.generate import _env, close_envs
-from bigym.experts.grasping import COMFORT, CROUCH_SPEED, LEG_OVERLAP, PEAK, WALK_SPEED
+from bigym.experts.grasping import COMFORT, CROUCH_SPEED, LEG_OVERLAP, PEAK, SETTLE_DISTANCE, WALK_SPEED
+from bigym.experts.stack_blocks import StackBlocksExpert
 
 
 @pytest.fixture(scope="module")
@@ -109,3 +113,30 @@ def test_a_plate_turned_in_its_own_plane_is_put_back_face_only(seed):
     # the smallest turn: about an axis in the plate's plane, so the in-plane turn stays
     axis = np.cross(held[:, 2], stood[:, 2])
     np.testing.assert_allclose(goal @ held.T @ axis, axis, atol=1e-9)
+
+
+@pytest.mark.parametrize("tries", [0, 2])
+def test_a_pinch_short_of_its_point_is_moved_by_what_it_missed(tries):
+    """``adjust_pinch`` (before a plate's rim is closed on): the hand moves by the error it
+    sees until its pinch is within ``SETTLE_DISTANCE`` of the point; with no tries it stays."""
+
+    class Adjusting(StackBlocksExpert):
+        def plan(self):
+            self.point = self.data.site_xpos[self.env.robot.pinch_site_ids[LEFT]] + np.array([0.04, 0.02, 0.03])
+            yield from self.adjust_pinch(LEFT, self.point, tries)
+            while True:
+                yield
+
+    env = StackBlocks(action_mode=JointPositionActionMode(floating_base=True, absolute=True), control_frequency=500)
+    try:
+        obs, _ = env.reset(seed=0)
+        expert = Adjusting(env, seed=0)
+        for _ in range(1500):
+            obs, *_ = env.step(expert(obs))
+        miss = float(np.linalg.norm(env.data.site_xpos[env.robot.pinch_site_ids[LEFT]] - expert.point))
+        if tries:
+            assert miss <= SETTLE_DISTANCE + 0.002, [event for event in expert.events if "adjust" in event[1]]
+        else:
+            assert miss > 0.04
+    finally:
+        env.close()
