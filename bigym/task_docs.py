@@ -38,7 +38,8 @@ def task_infos() -> list[TaskInfo]:
     for name, entry in bigym.TASKS.items():
         module, cls_name = entry.split(":")
         cls = getattr(importlib.import_module(module), cls_name)
-        summary = (inspect.getdoc(cls) or "").splitlines()[0] if cls.__doc__ else ""
+        # the docstring's first paragraph, which may wrap over several lines
+        summary = " ".join((inspect.getdoc(cls) or "").split("\n\n")[0].split()) if cls.__doc__ else ""
         infos.append(TaskInfo(name, f"bigym/{name}-v0", snake_case(name), cls, summary))
     return infos
 

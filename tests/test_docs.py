@@ -29,6 +29,8 @@ def test_readme_lists_every_task_with_its_preview():
 def test_every_task_says_what_to_do():
     for info in task_infos():
         assert info.summary, f"{info.name} has no one-line docstring"
+        # a summary wrapped over two docstring lines is read whole, not cut at the first
+        assert info.summary.endswith("."), f"{info.name}'s summary is cut short: {info.summary!r}"
 
 
 def _documented_start_noise(snake: str) -> tuple[float, float, float] | None:
