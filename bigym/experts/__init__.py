@@ -82,6 +82,7 @@ EXPERTS: dict[str, str] = {
     "PutCups": "bigym.experts.put_cups:PutCupsExpert",
     "TakeCups": "bigym.experts.take_cups:TakeCupsExpert",
     "SandwichRemove": "bigym.experts.sandwich:SandwichRemoveExpert",
+    "DishwasherUnloadPlatesLong": "bigym.experts.dishwasher_unload_plates_long:PlateCabinetExpert",
 }
 
 

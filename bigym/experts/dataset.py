@@ -70,6 +70,7 @@ DATASET_TASKS = (
     "TakeCups",
     "StoreGroceriesUpper",
     "SandwichRemove",
+    "DishwasherUnloadPlatesLong",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

@@ -75,7 +75,7 @@ class DishwasherExpert(Expert):
                 self.relax_arm(idle, start=self.time + abs(self.human.jitter(0.15)), joint_space=True)
         for job, side in zip(self.choices["order"], sides):
             if job == "door":
-                yield from self.door(side, goal)
+                yield from self.dishwasher_door(side, goal)
             else:
                 yield from self.tray(side, job, goal)
             yield from self.hesitate()
@@ -164,7 +164,7 @@ class DishwasherExpert(Expert):
         frame = self.data.xmat[body].reshape(3, 3)
         return edge, frame[:, 2].copy(), -frame[:, 0].copy()
 
-    def door(self, side: int, goal: float, attempts: int = 3) -> Script:
+    def dishwasher_door(self, side: int, goal: float, attempts: int = 3) -> Script:
         """Opening: pull the handle down part of the way, let go, push the inner face
         down flat. Closing: take the free edge (fingers either side of it, from above
         and in front), lift the door part of the way, let go, push the outer face shut."""
@@ -184,7 +184,7 @@ class DishwasherExpert(Expert):
                     )
                     yield from self.drag([side], PROP, "door", switch, base_follow=0.5, orientation_cost=FIRM * 0.3)
                     yield from self.release(side, back=0.06)
-                direction = yield from self.press_door(side, inner=True)
+                direction = yield from self.press_dishwasher_door(side, inner=True)
                 yield from self.drag(
                     [side], PROP, "door", 1.0 + 2 * OVERSHOOT, base_follow=0.5, orientation_cost=FIRM * 0.2
                 )
@@ -198,7 +198,7 @@ class DishwasherExpert(Expert):
                         [side], PROP, "door", switch, base_follow=0.5, orientation_cost=FIRM * 0.4, speed=LIFT_SPEED
                     )
                     yield from self.release(side, back=0.06)
-                direction = yield from self.press_door(side, inner=False)
+                direction = yield from self.press_dishwasher_door(side, inner=False)
                 yield from self.drag([side], PROP, "door", -OVERSHOOT, base_follow=0.5, orientation_cost=FIRM * 0.2)
             done = abs(self.joint_state(PROP, "door") - goal) < DONE_MARGIN
             yield from self.release(side, back=0.08, away=-direction, relax=done)
@@ -217,7 +217,7 @@ class DishwasherExpert(Expert):
             side, centre, bar, -up, tilt=EDGE_TILT + self.human.jitter(0.04), depth=0.0, base_goal=stance
         )
 
-    def press_door(self, side: int, inner: bool) -> Script:
+    def press_dishwasher_door(self, side: int, inner: bool) -> Script:
         """A fist on the door near its top edge: on the inner face pushing it open, on
         the outer face pushing it shut. Returns the push direction."""
         edge, up, front = self.door_frame()

@@ -125,7 +125,7 @@ class CutleryDrawerExpert(CutleryUnloadExpert, DrawerSkills, DishwasherExpert):
         near = self.work_from_side()
         yield from self.tray(near, "tray_bottom", 0.0)
         self.note("tray in")
-        yield from self.door(near, 0.0)
+        yield from self.dishwasher_door(near, 0.0)
         self.note("door shut")
         while True:
             yield
