@@ -71,6 +71,7 @@ DATASET_TASKS = (
     "StoreGroceriesUpper",
     "SandwichRemove",
     "DishwasherUnloadPlatesLong",
+    "DishwasherUnloadCupsLong",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went

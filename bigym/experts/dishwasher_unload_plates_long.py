@@ -47,9 +47,6 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.cupboards import CupboardExpert
-from bigym.experts.dishwasher import DishwasherExpert
-from bigym.experts.dishwasher_cutlery import CARRY_HEIGHT, ROUND_THE_DOOR_X
 from bigym.experts.dishwasher_plates import (
     DRAINER,
     PLATES_BODY_ON_PLAN,
@@ -62,19 +59,15 @@ from bigym.experts.dishwasher_plates import (
 )
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.geometry import aligning_rotation, frame_from_axes
-from bigym.experts.grasping import GRASP, HOLD, LANDED
+from bigym.experts.grasping import GRASP, LANDED
 from bigym.experts.move_plates import LAND
+from bigym.experts.wall_cabinet import CABINET, IN_HOLD, WallCabinetSkills
 
-CABINET = "wall_cabinet"
-DOORS = ("door_left", "door_right")
 #: across the open door's half (distance (m) of a slot from the cabinet's middle, y): the
 #: hand and the plate pass clear of the closed door's edge and of the side wall
 SLOT_WINDOW = (0.07, 0.21)
-#: where the pelvis stands to reach into the cabinet: x (m), how far (m) to the hand's side
-#: of the slot, how high
+#: where (x, m) the pelvis stands to reach into the cabinet
 CABINET_STANCE_X = 0.17
-CABINET_LATERAL = 0.1
-STANDING = 1.03
 #: where (x, m) the plate's middle is raised in front of the cabinet before it goes in (its
 #: rim clear of the cabinet's front), how high (m) it is turned towards the cabinet before
 #: that (under the cabinet's bottom), and how far over its rest (m) the plate
@@ -91,23 +84,11 @@ BEFORE_ROW = 0.02
 LINE_UP_TRIES = 3
 LINED_UP = 0.003
 #: how far (rad) the hand points up into the cabinet (the arm reaches up to the plate's
-#: height), and the IK's orientation costs there: the pitch (about the closing axis) is
-#: held more loosely, the IK trading some of it for reach
+#: height)
 IN_PITCH = 0.35
-IN_HOLD = np.array([4.0, 1.0, 4.0])
-#: a cabinet door open further than this (normalised) is pushed shut (the task wants both
-#: within 0.1 of closed)
-DOOR_SHUT = 0.05
-#: where (x, m) the open hand draws back to after letting go: out of the cabinet, clear of
-#: the door handles
-OUT_X = 0.45
-#: where the plate is held (pelvis frame, m; y towards the holding hand's side) on the way
-#: to the cabinet: up at the chest, its lower rim over the counter's height, so that it
-#: passes over the counter's front as the body steps up to it
-HOLD_AT = np.array([0.28, 0.15, 0.15])
 
 
-class PlateCabinetExpert(PlateUnloadExpert, CupboardExpert, DishwasherExpert):
+class PlateCabinetExpert(PlateUnloadExpert, WallCabinetSkills):
     """Moves the plate of ``DishwasherUnloadPlatesLong`` into the wall cabinet's drainer and
     closes everything."""
 
@@ -131,29 +112,16 @@ class PlateCabinetExpert(PlateUnloadExpert, CupboardExpert, DishwasherExpert):
         yield from self.take_until_held(side, plate)
         default_cost = dict(self.base_cost)
         self.base_cost.update(PLATES_BODY_ON_PLAN)
-        yield from self.walk_to_cabinet(side, slot)
+        yield from self.walk_to_cabinet(side, float(self.site_of(self.env.props[DRAINER], slot)[1]), CABINET_STANCE_X)
         self.note("at cabinet")
         yield from self.slide_in(side, plate, slot)
         self.note("placed")
         self.base_cost = default_cost
-        # the door it opened, and the other one if an elbow nudged it open on the way
-        for key in (door, *(k for k in DOORS if k != door)):
-            if self.joint_state(CABINET, key) > DOOR_SHUT:
-                yield from self.door(self.door_side(CABINET, key), CABINET, key, 0.0)
-        self.note("cabinet shut")
-        yield from self.walk_to_dishwasher()
-        near = self.work_from_side()
-        yield from self.tray(near, "tray_bottom", 0.0)
-        self.note("tray in")
-        yield from self.dishwasher_door(near, 0.0)
-        self.note("door shut")
+        yield from self.close_up(door, "tray_bottom")
         while True:
             yield
 
     # ------------------------------------------------------------------ choices
-    def cabinet_middle(self) -> float:
-        return float(self.data.xpos[self.env.props[CABINET].root_body_id][1])
-
     def choose_slot(self) -> tuple[float, str]:
         """A half of the cabinet (+1: +y) and a slot of the drainer in it that the hand
         reaches through that half's door (``SLOT_WINDOW``)."""
@@ -168,38 +136,7 @@ class PlateCabinetExpert(PlateUnloadExpert, CupboardExpert, DishwasherExpert):
         slots = [key for h, key in options if h == half]
         return half, slots[int(self.rng.integers(len(slots)))]
 
-    def door_of_half(self, half: float) -> str:
-        """The cabinet door that covers the ``half`` (+1: +y) of its front."""
-        middle = self.cabinet_middle()
-        for key in DOORS:
-            if np.sign(float(self.site(CABINET, f"{key}_handle")[1]) - middle) == half:
-                return key
-        raise ValueError(f"no door on the {half:+.0f} half of the cabinet")
-
     # ------------------------------------------------------------------ moves
-    def walk_to_cabinet(self, side: int, slot: str) -> Script:
-        """Stand up stepping back, the plate up at the chest (``HOLD_AT``), walk back round
-        the door to in front of the cabinet, the hand's side of the body at the slot."""
-        base = self.commanded_base()
-        yield from self.walk([(base[0] - 0.1, base[1], CARRY_HEIGHT, base[3])], carrying=(side,))
-        base = self.base_pose()
-        goal = HOLD_AT * np.array([1.0, 1.0 if side == LEFT else -1.0, 1.0]) + self.human.jitter(0.02, 3)
-        held = self.move_hand_with_body(side, goal, HOLD, base)
-        slot_y = float(self.site_of(self.env.props[DRAINER], slot)[1])
-        lateral = CABINET_LATERAL if side == LEFT else -CABINET_LATERAL
-        stance = (
-            CABINET_STANCE_X + self.human.jitter(0.02),
-            slot_y - lateral + self.human.jitter(0.02),
-            STANDING + self.human.jitter(0.01),
-            self.human.jitter(0.04),
-        )
-        route = [
-            (ROUND_THE_DOOR_X + self.human.jitter(0.04), stance[1] + 0.25, CARRY_HEIGHT, -0.4),
-            stance,
-        ]
-        arrival = yield from self.walk(route, wait=False)
-        yield from self.until(max(arrival, held))
-
     def into_cabinet(self, side: int) -> np.ndarray:
         """The hand pointing into the cabinet, a little up (``IN_PITCH``), closing across
         the plate's face (along world y, the sign it closes with now)."""
@@ -208,12 +145,6 @@ class PlateCabinetExpert(PlateUnloadExpert, CupboardExpert, DishwasherExpert):
             closing = -closing
         approach = np.array([np.cos(IN_PITCH), 0.0, np.sin(IN_PITCH)])
         return frame_from_axes(np.cross(closing, approach), approach)
-
-    def pinch_for(self, side: int, body: int, origin: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-        """Where the pinch point goes for the held body's origin to be at ``origin`` with
-        the hand turned to ``rotation``: the body turns with the hand (the pads hold it)."""
-        hand = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3)
-        return origin + rotation @ hand.T @ self.held_offset(side, body)
 
     def line_up(self, side: int, body: int, goal: np.ndarray) -> Script:
         """Turn the held plate square to the slot at ``goal`` and move it across over it, by
@@ -287,18 +218,8 @@ class PlateCabinetExpert(PlateUnloadExpert, CupboardExpert, DishwasherExpert):
         self.hold_hand(side, IN_HOLD, tremor=0.2)
         yield from self.wait(0.1)
         yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
-        # straight back out (not along the hand, which the corrections left turned: the
-        # open fingers would catch the other door's handle)
-        p, r = self.hand_pose(side)
-        back = p - np.array([float(p[0]) - OUT_X, 0.0, 0.0])
-        yield from self.until(self.move_hand(side, back, r, GRASP * 0.5, spread=0.1, tremor=0.5))
+        yield from self.draw_back(side, GRASP * 0.5)
         self.relax_arm(side)
-
-    def walk_to_dishwasher(self) -> Script:
-        """Back and round to the dishwasher's side, turned towards it, where its door is
-        worked."""
-        base = self.commanded_base()
-        yield from self.walk([(base[0] - 0.1, -0.62 + self.human.jitter(0.03), base[2], 0.35)])
 
 
 __all__ = ["PlateCabinetExpert"]

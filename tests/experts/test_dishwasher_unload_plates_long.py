@@ -14,7 +14,8 @@ import pytest
 
 from bigym.action_modes import JointPositionActionMode
 from bigym.envs.dishwasher_plates import PLATE_IN_SLOT, DishwasherUnloadPlatesLong
-from bigym.experts.dishwasher_unload_plates_long import CABINET, DOORS, PlateCabinetExpert
+from bigym.experts.dishwasher_unload_plates_long import PlateCabinetExpert
+from bigym.experts.wall_cabinet import CABINET, DOORS
 
 PLATE = "plate_1"
 
