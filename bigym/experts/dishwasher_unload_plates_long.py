@@ -12,7 +12,8 @@ slot, slides it in over the drainer's base (the slots are open along the drainer
 the plate passes between the front row of holders), lowers it in and lets go; draws the
 hand straight back out, shuts the door with a push (and the other one, if an elbow nudged
 it open), and closes the dishwasher from beside its door as :mod:`bigym.experts.dishwasher`
-does.
+does (the cabinet and closing skills are :mod:`bigym.experts.wall_cabinet`'s, shared with
+the mug of ``DishwasherUnloadCupsLong``).
 
 What makes it work (measured with the dev scripts of the closing note):
 
