@@ -42,7 +42,6 @@ from bigym.experts.dishwasher_cutlery import ROUND_THE_DOOR_X
 from bigym.experts.dishwasher_unload_cups import NEAREST_X, TRAY_CROUCH, TRAY_REACH, CupUnloadExpert
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.geometry import aligning_rotation, frame_from_axes
-from bigym.experts.grasping import GRASP
 from bigym.experts.wall_cabinet import CABINET, IN_HOLD, WallCabinetSkills
 
 #: where on the shelf the mug goes: x of its middle (the shelf runs from 0.68 to 0.98),
@@ -130,7 +129,6 @@ class MugCabinetExpert(CupUnloadExpert, WallCabinetSkills):
         the shelf's top), lower it until it rests on its rim and let go."""
         body = self.env.props[mug].root_body_id
         origin = self.data.xpos[body]
-        pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]]
         frame = self.data.xmat[body]
         # the hand pointing into the cabinet, down about as it took the handle, closing as it does
         _, r = self.hand_pose(side)
@@ -168,18 +166,13 @@ class MugCabinetExpert(CupUnloadExpert, WallCabinetSkills):
             self.note("again")
             down = self.data.xmat[body].reshape(3, 3)[:, 2]
             turn = aligning_rotation(down, np.array([0.0, 0.0, -1.0]))
-            p, r = self.hand_pose(side)
-            # lifted 3 cm and turned about the mug (the hand moves as the turn requires)
-            target = p + np.array([0.0, 0.0, 0.03]) + (turn - np.eye(3)) @ (pinch - origin)
+            _, r = self.hand_pose(side)
+            target = self.turned_in_hand(side, body, turn, np.array([0.0, 0.0, 0.03]))  # lifted 3 cm
             end = self.move_hand(side, target, turn @ r, IN_HOLD, spread=0.0, precision=0.004, speed=0.5)
             yield from self.until(end + 0.1)
             _, r = self.hand_pose(side)
             yield from self.lower_until(side, r, 0.06, 0.4, resting)
-        self.hold_hand(side, IN_HOLD, tremor=0.2)
-        yield from self.wait(0.1)
-        yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
-        yield from self.draw_back(side, GRASP * 0.5)
-        self.relax_arm(side)
+        yield from self.let_go_inside(side)
 
 
 __all__ = ["MugCabinetExpert"]

@@ -60,7 +60,7 @@ from bigym.experts.dishwasher_plates import (
 )
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script
 from bigym.experts.geometry import aligning_rotation, frame_from_axes
-from bigym.experts.grasping import GRASP, LANDED
+from bigym.experts.grasping import LANDED
 from bigym.experts.move_plates import LAND
 from bigym.experts.wall_cabinet import CABINET, IN_HOLD, WallCabinetSkills
 
@@ -152,8 +152,6 @@ class PlateCabinetExpert(PlateUnloadExpert, WallCabinetSkills):
         what the eye sees (the IK leaves the hand some degrees off), at most
         ``LINE_UP_TRIES`` times; the plate's origin stays where it is along the slot and in
         height (the hand moves as the turn requires)."""
-        origin = self.data.xpos[body]
-        pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]]
         for _ in range(LINE_UP_TRIES):
             normal = self.data.xmat[body].reshape(3, 3)[:, 2]
             square = np.array([0.0, np.sign(normal[1]) or 1.0, 0.0])
@@ -163,10 +161,8 @@ class PlateCabinetExpert(PlateUnloadExpert, WallCabinetSkills):
                 break
             self.note(f"line up {'LR'[side]} {np.degrees(tilt):.0f} {off * 1000:.0f}")
             turn = aligning_rotation(normal, square) if tilt > STRAIGHT else np.eye(3)
-            # the plate turns with the hand about the pinch point
-            held = pinch - origin
-            p, r = self.hand_pose(side)
-            target = p + np.array([0.0, -off, 0.0]) + (turn - np.eye(3)) @ held
+            _, r = self.hand_pose(side)
+            target = self.turned_in_hand(side, body, turn, np.array([0.0, -off, 0.0]))
             end = self.move_hand(side, target, turn @ r, IN_HOLD, spread=0.0, precision=0.004, speed=0.5)
             yield from self.until(end + 0.1)
 
@@ -216,11 +212,7 @@ class PlateCabinetExpert(PlateUnloadExpert, WallCabinetSkills):
             p, r = self.hand_pose(side)
             end = self.move_hand(side, p + np.array([0.0, 0.0, RESEAT_LIFT]), r, IN_HOLD, spread=0.0, speed=0.5)
             yield from self.until(end + 0.1)
-        self.hold_hand(side, IN_HOLD, tremor=0.2)
-        yield from self.wait(0.1)
-        yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
-        yield from self.draw_back(side, GRASP * 0.5)
-        self.relax_arm(side)
+        yield from self.let_go_inside(side)
 
 
 __all__ = ["PlateCabinetExpert"]

@@ -19,7 +19,7 @@ from bigym.experts.cupboards import CupboardExpert
 from bigym.experts.dishwasher import DishwasherExpert
 from bigym.experts.dishwasher_cutlery import CARRY_HEIGHT, ROUND_THE_DOOR_X
 from bigym.experts.expert import LEFT, Script
-from bigym.experts.grasping import HOLD
+from bigym.experts.grasping import GRASP, HOLD
 
 CABINET = "wall_cabinet"
 DOORS = ("door_left", "door_right")
@@ -86,12 +86,25 @@ class WallCabinetSkills(CupboardExpert, DishwasherExpert):
         hand = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3)
         return origin + rotation @ hand.T @ self.held_offset(side, body)
 
-    def draw_back(self, side: int, cost: np.ndarray) -> Script:
-        """The open hand straight back out of the cabinet (not along the hand, which the
-        corrections may have left turned: the open fingers caught the other door's handle)."""
+    def turned_in_hand(self, side: int, body: int, turn: np.ndarray, shift: np.ndarray) -> np.ndarray:
+        """Where the pinch point goes to turn the held body by ``turn`` about its own origin
+        and move it by ``shift``: the body turns with the hand about the pinch point, so the
+        hand moves as the turn requires."""
+        p, _ = self.hand_pose(side)
+        held = self.data.site_xpos[self.env.robot.pinch_site_ids[side]] - self.data.xpos[body]
+        return p + shift + (turn - np.eye(3)) @ held
+
+    def let_go_inside(self, side: int) -> Script:
+        """Let go of what the hand put down in the cabinet, draw the open hand straight back
+        out (not along the hand, which the corrections may have left turned: the open
+        fingers caught the other door's handle) and relax the arm."""
+        self.hold_hand(side, IN_HOLD, tremor=0.2)
+        yield from self.wait(0.1)
+        yield from self.set_grip(side, 0.0, max_wait=0.6, min_wait=0.3)
         p, r = self.hand_pose(side)
         back = p - np.array([float(p[0]) - OUT_X, 0.0, 0.0])
-        yield from self.until(self.move_hand(side, back, r, cost, spread=0.1, tremor=0.5))
+        yield from self.until(self.move_hand(side, back, r, GRASP * 0.5, spread=0.1, tremor=0.5))
+        self.relax_arm(side)
 
     def close_up(self, door: str, tray: str) -> Script:
         """Push the cabinet door shut (the one opened, then the other if an elbow nudged it
