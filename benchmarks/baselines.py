@@ -12,7 +12,9 @@ given (``act-DrawerTopOpen-dropout=0-ema=0.json``), so runs of other settings si
 defaults'. It ends by printing the Markdown table of all records in ``<out>``, whose
 "settings" column lists where a record's training differed from its method's defaults of
 today (records from before a setting existed are read as they ran: see
-``bigym.baselines.checkpoint.LEGACY_SETTINGS``). ``--all-tasks`` runs every task the store
+``bigym.baselines.checkpoint.LEGACY_SETTINGS``). ``--ensemble-decay D`` evaluates with
+another temporal ensembling (as ``bigym eval --ensemble-decay``): the same checkpoint, a
+record named ``...-ensemble_decay=D.json``. ``--all-tasks`` runs every task the store
 has demos for (on a GPU machine, set ``--steps`` higher and ``--workers`` to the CPU count).
 """
 
@@ -30,6 +32,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 from bigym.baselines import checkpoint_factory, train  # noqa: E402
 from bigym.baselines.checkpoint import with_legacy_settings  # noqa: E402
 from bigym.baselines.methods import config_dict, make_config  # noqa: E402
+from bigym.baselines.policy import ENSEMBLE_DECAY  # noqa: E402
 from bigym.cli.train import parse_settings  # noqa: E402
 from bigym.demonstrations import DemoStore  # noqa: E402
 from bigym.evaluation import EvaluationResult, evaluate  # noqa: E402
@@ -53,15 +56,21 @@ def record_name(method: str, task: str, cameras: tuple[str, ...], settings: dict
     return f"{method}{'-pixels' if cameras else ''}-{task}{given}"
 
 
+def acting_suffix(ensemble_decay: float) -> str:
+    """``-ensemble_decay=1.0`` for a record that acted with other than ACT's ensembling."""
+    return "" if ensemble_decay == ENSEMBLE_DECAY else f"-ensemble_decay={json.dumps(float(ensemble_decay))}"
+
+
 def run(
     method: str, task: str, store, work: Path, out: Path, steps: int, cameras: tuple[str, ...], workers: int,
-    device: str, settings: dict,
+    device: str, settings: dict, ensemble_decay: float = ENSEMBLE_DECAY,
 ):  # fmt: skip
-    name = record_name(method, task, cameras, settings)
+    trained = record_name(method, task, cameras, settings)
+    name = trained + acting_suffix(ensemble_decay)
     record = out / f"{name}.json"
     if record.exists():
         return
-    checkpoint_path = work / f"{name}.pt"
+    checkpoint_path = work / f"{trained}.pt"  # one training serves every acting setting
     started = time.perf_counter()
     checkpoint = train(
         method, task, checkpoint_path, demos=50, cameras=cameras, privileged=not cameras, store=store,
@@ -69,7 +78,8 @@ def run(
         device=device,
     )  # fmt: skip
     config = ObservationConfig.from_dict(checkpoint.observation_config)
-    result = evaluate(checkpoint_factory(checkpoint_path), task, workers=workers, observation_config=config)
+    factory = checkpoint_factory(checkpoint_path, ensemble_decay)
+    result = evaluate(factory, task, workers=workers, observation_config=config)
     data = {
         "method": method,
         "task": task,
@@ -81,6 +91,7 @@ def run(
             "final_loss_terms": checkpoint.loss_terms[-1] if checkpoint.loss_terms else {},
             "config": checkpoint.config,
         },
+        "acting": {"ensemble_decay": float(ensemble_decay)},
         "machine": machine(device),
         "evaluation": result.to_dict(),
     }
@@ -109,9 +120,17 @@ def changed_settings(method: str, config: dict) -> dict:
     return {name: value for name, value in config.items() if name != "steps" and defaults.get(name) != value}
 
 
-def differences(method: str, config: dict) -> str:
-    """The table's settings column: ``defaults``, or what differed (``dropout 0, ema 0``)."""
+def record_decay(data: dict) -> float:
+    """How a record's policy ensembled its chunks (records from before the setting: ACT's)."""
+    return data.get("acting", {}).get("ensemble_decay", ENSEMBLE_DECAY)
+
+
+def differences(method: str, config: dict, ensemble_decay: float = ENSEMBLE_DECAY) -> str:
+    """The table's settings column: ``defaults``, or what differed (``dropout 0, ema 0``),
+    acting included (``ensemble_decay 1.0``)."""
     changed = changed_settings(method, config)
+    if ensemble_decay != ENSEMBLE_DECAY:
+        changed["ensemble_decay"] = float(ensemble_decay)
     return ", ".join(f"{name} {json.dumps(value)}" for name, value in changed.items()) or "defaults"
 
 
@@ -119,7 +138,9 @@ def name_for_today(data: dict) -> str:
     """The name a record would get if run again today with ``--set`` for what it changed:
     a record named otherwise would make the benchmark skip a run it never did."""
     cameras = ("cameras",) if "pixels" in data["evaluation"]["fingerprint"]["track"] else ()
-    return record_name(data["method"], data["task"], cameras, changed_settings(data["method"], data["training"]["config"]))
+    changed = changed_settings(data["method"], data["training"]["config"])
+    trained = record_name(data["method"], data["task"], cameras, changed)
+    return trained + acting_suffix(record_decay(data))
 
 
 def on_gpu(machine: str) -> str:
@@ -141,7 +162,8 @@ def table(out: Path) -> str:
         official = "" if result.official else " (unofficial)"
         track = result.fingerprint["track"]
         lines.append(
-            f"| {data['task']} | {data['method']} | {track} | {differences(data['method'], training['config'])} "
+            f"| {data['task']} | {data['method']} | {track} "
+            f"| {differences(data['method'], training['config'], record_decay(data))} "
             f"| {s.successes}/{s.episodes}{official} "
             f"| {100 * low:.0f}-{100 * high:.0f}% | {training['demos']} | {training['steps']} "
             f"| {training['seconds'] / 60:.0f} min{on_gpu(data.get('machine', ''))} "
@@ -164,6 +186,8 @@ def main() -> None:
     parser.add_argument("--out", type=Path, default=Path("results/baselines"))
     parser.add_argument("--workers", type=int, default=os.cpu_count() or 1)
     parser.add_argument("--device", default="auto", help="training device: auto (CUDA when there is a GPU), cpu, cuda")
+    parser.add_argument("--ensemble-decay", type=float, default=ENSEMBLE_DECAY,
+                        help="acting: the temporal ensembling's weight step (ACT's 0.01), as bigym eval --ensemble-decay")  # fmt: skip
     parser.add_argument("--table-only", action="store_true", help="print the table of the existing records")
     args = parser.parse_args()
     methods = args.method or list(STEPS)
@@ -184,11 +208,13 @@ def main() -> None:
         for task in tasks:
             for method in methods:
                 steps = args.steps or STEPS[method]
-                run(method, task, store, work, args.out, steps, (), args.workers, args.device, settings)
+                run(method, task, store, work, args.out, steps, (), args.workers, args.device, settings,
+                    args.ensemble_decay)  # fmt: skip
         for task in args.pixels:
             cameras = ("head", "left_wrist", "right_wrist")
             steps = args.steps or STEPS["act"]
-            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, settings)
+            run("act", task, store, work, args.out, steps, cameras, args.workers, args.device, settings,
+                args.ensemble_decay)  # fmt: skip
     print(f"\nMachine: {platform.processor() or platform.machine()}, {os.cpu_count()} CPUs\n")
     print(table(args.out))
 

@@ -93,7 +93,7 @@ class Checkpoint:
 
 #: Settings added after the first checkpoints, with what those checkpoints trained with (not
 #: today's default, which may differ): chunk ends masked, the last weights acting, no state noise.
-LEGACY_SETTINGS = {"hold_end": False, "ema": 0.0, "state_noise": 0.0, "modes": 0}
+LEGACY_SETTINGS = {"hold_end": False, "ema": 0.0, "state_noise": 0.0, "modes": 0, "tail": False}
 
 
 def with_legacy_settings(method: str, config: dict[str, Any]) -> dict[str, Any]:

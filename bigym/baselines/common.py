@@ -22,6 +22,11 @@ class TrainConfig:
     # there (ACT's is_pad); True: it is trained to hold the demo's last action, what the
     # robot does if the episode goes on. Neither won on every task (README, "Baselines").
     hold_end: bool = False
+    # Expert recordings go on about 1 s past the episode's end (its first success), so that
+    # slower replays still reach it. True: a chunk that reaches past the end is trained on
+    # those recorded steps (what the demonstrator went on doing: into the target, the drawer
+    # further shut) instead of being masked or held; the samples are still the episode's.
+    tail: bool = False
     # Decay of a moving average of the weights (bigym.baselines.ema) that then acts instead
     # of the last weights; 0 keeps none. 0.999 averages over about the last 1,000 steps.
     ema: float = 0.0

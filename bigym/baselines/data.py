@@ -2,7 +2,8 @@
 
 Every method here predicts a *chunk* of the next ``H`` actions from one observation. A
 sample pairs observation ``t`` with actions ``t .. t+H-1``; near the end of a demo the
-chunk is padded with its last action and the padding is masked out of the loss.
+chunk is padded with its last action and the padding is masked out of the loss, or (with
+``tail``) filled from what the recording holds after the episode's end.
 
 The env's base actions are per-step moves (deltas) even in the absolute action mode. A
 policy that predicts moves lets its errors add up: a base that drifts keeps drifting, out
@@ -105,7 +106,7 @@ class ChunkDataset:
 
     def __init__(
         self, demos: list, chunk: int, image_keys: list[str], normalizer: Normalizer | None = None,
-        hold_end: bool = False, modes: int = 0,
+        hold_end: bool = False, modes: int = 0, tail: bool = False,
     ) -> None:  # fmt: skip
         if not demos:
             raise ValueError("no demos to train on")
@@ -119,14 +120,17 @@ class ChunkDataset:
             raise ValueError(f"the floating base is learned as targets: the demos need {BASE_TARGETS} (proprioception)")
         states, actions, chunks, pads, images = [], [], [], [], {k: [] for k in self.image_keys}
         for demo in demos:
-            steps = len(demo.actions)
+            recorded = len(demo.actions)  # the episode, and with ``tail`` the steps after it
+            steps = demo.report.episode_steps if tail and demo.report.episode_steps else recorded
+            if tail and recorded < demo.report.replayed_steps:
+                raise ValueError(f"demo {demo.uuid} was replayed without the steps after its episode's end")
             obs = {k: v[:steps] for k, v in demo.observations.items()}
             states.append(state_vector(obs, self.state_keys))
             targets = target_actions(demo, self.base_indices)
-            actions.append(targets)
+            actions.append(targets)  # (the normaliser's range covers the chunks' targets)
             index = np.arange(steps)[:, None] + np.arange(chunk)[None, :]
-            pads.append(np.zeros_like(index, dtype=bool) if hold_end else index >= steps)
-            chunks.append(targets[np.minimum(index, steps - 1)])
+            pads.append(np.zeros_like(index, dtype=bool) if hold_end else index >= recorded)
+            chunks.append(targets[np.minimum(index, recorded - 1)])
             for key in self.image_keys:
                 images[key].append(obs[key])
         all_states, all_actions = np.concatenate(states), np.concatenate(actions)
@@ -140,7 +144,7 @@ class ChunkDataset:
         self.demo_modes = (
             demo_modes([self.normalizer.actions(a) for a in actions], modes) if modes else np.zeros(0, dtype=np.int64)
         )
-        self.modes = torch.from_numpy(np.repeat(self.demo_modes, [len(a) for a in actions])) if modes else None
+        self.modes = torch.from_numpy(np.repeat(self.demo_modes, [len(s) for s in states])) if modes else None
 
     def __len__(self) -> int:
         return len(self.states)

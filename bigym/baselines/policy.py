@@ -4,6 +4,7 @@ step, the overlapping chunks averaged (ACT's temporal ensembling)."""
 from __future__ import annotations
 
 import functools
+import math
 from collections import deque
 from pathlib import Path
 
@@ -12,6 +13,9 @@ import torch
 
 from bigym.baselines.checkpoint import Checkpoint
 from bigym.baselines.data import BASE_TARGETS, image_tensor, state_vector
+
+#: ACT's weight step between successive chunks' predictions for one step (README, "Baselines")
+ENSEMBLE_DECAY = 0.01
 
 
 def temporal_ensemble(predictions: list[np.ndarray], decay: float) -> np.ndarray:
@@ -25,7 +29,7 @@ def temporal_ensemble(predictions: list[np.ndarray], decay: float) -> np.ndarray
 class ChunkPolicy:
     """Runs a checkpoint in an env whose action mode, rate and observations match it."""
 
-    def __init__(self, env, checkpoint: Checkpoint, ensemble_decay: float = 0.01) -> None:
+    def __init__(self, env, checkpoint: Checkpoint, ensemble_decay: float = ENSEMBLE_DECAY) -> None:
         base = env.unwrapped
         _check_env(base, checkpoint)
         self.checkpoint = checkpoint
@@ -85,11 +89,17 @@ def _check_env(env, checkpoint: Checkpoint) -> None:
         raise ValueError("this checkpoint does not fit the env: " + "; ".join(problems))
 
 
-def load_policy(env, checkpoint: str | Path, ensemble_decay: float = 0.01) -> ChunkPolicy:
+def load_policy(env, checkpoint: str | Path, ensemble_decay: float = ENSEMBLE_DECAY) -> ChunkPolicy:
     """The policy factory of a checkpoint file: ``load_policy(env, path)``."""
     return ChunkPolicy(env, Checkpoint.load(checkpoint), ensemble_decay)
 
 
-def checkpoint_factory(path: str | Path) -> functools.partial:
-    """``factory(env)`` for :func:`bigym.evaluation.evaluate` (picklable, for its workers)."""
-    return functools.partial(load_policy, checkpoint=str(Path(path).resolve()))
+def checkpoint_factory(path: str | Path, ensemble_decay: float = ENSEMBLE_DECAY) -> functools.partial:
+    """``factory(env)`` for :func:`bigym.evaluation.evaluate` (picklable, for its workers);
+    ``ensemble_decay`` as for :func:`temporal_ensemble` (named in the record's policy only
+    when it is not ACT's)."""
+    if not (isinstance(ensemble_decay, (int, float)) and math.isfinite(ensemble_decay)):
+        raise ValueError(f"ensemble_decay must be a finite number, got {ensemble_decay!r}")
+    if ensemble_decay == ENSEMBLE_DECAY:
+        return functools.partial(load_policy, checkpoint=str(Path(path).resolve()))
+    return functools.partial(load_policy, checkpoint=str(Path(path).resolve()), ensemble_decay=float(ensemble_decay))

@@ -36,8 +36,12 @@ def observation_config(
     )
 
 
-def load_demos(task: str, config: ObservationConfig, amount: int, frequency: float, store, workers: int, progress):
-    """``amount`` demos of ``task`` replayed into ``config`` at ``frequency`` (absolute actions)."""
+def load_demos(
+    task: str, config: ObservationConfig, amount: int, frequency: float, store, workers: int, progress,
+    episode_only: bool = True,
+):  # fmt: skip
+    """``amount`` demos of ``task`` replayed into ``config`` at ``frequency`` (absolute actions);
+    ``episode_only=False``: with the recorded steps after each episode's end."""
     from bigym.demonstrations import DemoStore, Metadata
     from bigym.demonstrations.player import resolve_task
 
@@ -51,7 +55,9 @@ def load_demos(task: str, config: ObservationConfig, amount: int, frequency: flo
     finally:
         env.close()
     store = store if store is not None and not isinstance(store, (str, Path)) else DemoStore(store)
-    demos = store.get_demos(metadata, amount=amount, frequency=frequency, workers=workers, progress=progress)
+    demos = store.get_demos(
+        metadata, amount=amount, frequency=frequency, workers=workers, progress=progress, episode_only=episode_only
+    )
     return demos, metadata
 
 
@@ -88,13 +94,15 @@ def train(
     task = resolve_task(task).__name__
     config = make_config(method, settings)
     observations = observation_config(tuple(cameras), depth, privileged)
-    replayed, metadata = load_demos(task, observations, demos, frequency, store, workers, replay_progress)
+    replayed, metadata = load_demos(
+        task, observations, demos, frequency, store, workers, replay_progress, episode_only=not config.tail
+    )
     image_keys = sorted(k for k in replayed[0].observations if is_image_key(k))
     out = Path(out)
     previous = Checkpoint.load(out) if out.exists() else None
     dataset = ChunkDataset(
         replayed, config.chunk, image_keys, previous.make_normalizer() if previous is not None else None,
-        hold_end=config.hold_end, modes=getattr(config, "modes", 0),
+        hold_end=config.hold_end, modes=getattr(config, "modes", 0), tail=config.tail,
     )  # fmt: skip
     image_shapes = {k: list(dataset.images[k].shape[1:]) for k in image_keys}
     for key in image_keys:

@@ -24,17 +24,21 @@ def is_checkpoint(policy: str) -> bool:
     return ":" not in policy and Path(policy).suffix == ".pt"
 
 
-def policy_spec(policy: str, task: str):
+def policy_spec(policy: str, task: str, ensemble_decay: float | None = None):
     """The factory for ``--policy`` (a built-in name, ``module:function`` or a checkpoint
-    file), checked here so that a typo fails before any worker starts."""
+    file), checked here so that a typo fails before any worker starts. ``ensemble_decay``:
+    a checkpoint's temporal ensembling (default ACT's); refused for any other policy."""
     from bigym.evaluation import PolicyLoadError, load_factory
 
     if is_checkpoint(policy):
         from bigym.baselines import checkpoint_factory
+        from bigym.baselines.policy import ENSEMBLE_DECAY
 
         if not Path(policy).is_file():
             raise PolicyLoadError(f"no checkpoint at {policy}")
-        return checkpoint_factory(policy)
+        return checkpoint_factory(policy, ENSEMBLE_DECAY if ensemble_decay is None else ensemble_decay)
+    if ensemble_decay is not None:
+        raise PolicyLoadError("--ensemble-decay is a setting of a trained checkpoint (.pt) and needs one as --policy")
     if policy in BUILT_IN_POLICIES:
         if policy == "expert":
             from bigym.experts import EXPERTS
@@ -81,6 +85,13 @@ def eval_command(
     trained_observations: Annotated[
         bool, typer.Option(help="With a checkpoint: the observations, action mode and rate it was trained with.")
     ] = True,
+    ensemble_decay: Annotated[
+        float | None,
+        typer.Option(
+            help="With a checkpoint: weight step of its temporal ensembling, exp(-decay * i) from the oldest "
+            "chunk's prediction (ACT's 0.01; larger commits to older predictions)."
+        ),
+    ] = None,
     video: Annotated[Path | None, typer.Option(help="Folder for mp4 videos of the first episodes.")] = None,
     videos: Annotated[int, typer.Option(min=0, help="How many episodes to film (with --video).")] = 3,
     json_out: Annotated[Path | None, typer.Option("--json", help="Write the full record (every episode) here.")] = None,
@@ -94,10 +105,10 @@ def eval_command(
 
     cls = task_class(task)
     try:
-        spec = policy_spec(policy, cls.__name__)
+        spec = policy_spec(policy, cls.__name__, ensemble_decay)
     except ImportError as error:
         _fail(f"checkpoints need torch: pip install 'bigym[train]' ({error})")
-    except PolicyLoadError as error:
+    except (PolicyLoadError, ValueError) as error:
         _fail(str(error))
     names = camera_names(cameras, depth)
     if json_out is not None and json_out.exists() and json_out.is_dir():

@@ -514,11 +514,13 @@ def close_cached_envs() -> None:
 
 
 def _replay_job(job: tuple) -> ReplayedDemo:
-    demo, observation_config, frequency, action_mode, verify, tolerance = job
+    demo, observation_config, frequency, action_mode, verify, tolerance, episode_only = job
     if isinstance(demo, (str, Path)):
         demo = Demo.load(demo)
     env = _cached_env(demo, observation_config, frequency, action_mode)
-    return replay(demo, env=env, verify=verify, tolerance=tolerance, convert=action_mode is not None)
+    return replay(
+        demo, env=env, verify=verify, tolerance=tolerance, convert=action_mode is not None, episode_only=episode_only
+    )
 
 
 def replay_many(
@@ -536,6 +538,7 @@ def replay_many(
     on_result: Callable[[int, ReplayedDemo | Exception], None] | None = None,
     description: str = "replaying demos",
     pool: ReplayPool | None = None,
+    episode_only: bool = True,
 ) -> list[ReplayedDemo | Exception]:
     """Replay many demos, in input order; in parallel with ``workers`` > 1.
 
@@ -544,6 +547,8 @@ def replay_many(
     ``errors``: ``"raise"`` stops at the first failure; ``"return"`` puts the exception in
     that demo's place. ``on_result(index, result)`` is called as each demo finishes.
     ``pool``: a :class:`ReplayPool` to reuse (its size replaces ``workers``).
+    ``episode_only``: as for :func:`replay` (False: the recording's steps after the episode's
+    end too).
     """
     if errors not in ("raise", "return"):
         raise ValueError("errors must be 'raise' or 'return'")
@@ -553,7 +558,7 @@ def replay_many(
         observation_config = observation_config.to_dict()
     if isinstance(action_mode, ActionMode):
         action_mode = action_mode.to_dict()
-    jobs = [(demo, observation_config, frequency, action_mode, verify, tolerance) for demo in demos]
+    jobs = [(demo, observation_config, frequency, action_mode, verify, tolerance, episode_only) for demo in demos]
     workers = pool.workers if pool is not None else max(1, min(workers or 1, len(jobs) or 1))
     results: list = [None] * len(jobs)
 

@@ -213,6 +213,7 @@ class ReplayCache:
         observation_config: ObservationConfig | dict | None,
         frequency: float,
         action_mode: dict | ActionMode,
+        episode_only: bool = True,
     ) -> str:
         if isinstance(observation_config, ObservationConfig) or observation_config is None:
             observation_config = (observation_config or ObservationConfig()).to_dict()
@@ -228,6 +229,8 @@ class ReplayCache:
             bigym.__version__,
             mujoco.__version__,
         ]
+        if not episode_only:  # (the keys of episode replays stay as they were)
+            payload.append("whole-recording")
         return hashlib.sha256(json.dumps(payload, sort_keys=True).encode()).hexdigest()[:32]
 
     def path(self, uuid: str, key: str) -> Path:
@@ -623,6 +626,7 @@ class DemoStore:
         use_cache: bool = True,
         tolerance: float | None = None,
         shuffle_seed: int | None = None,
+        episode_only: bool = True,
     ) -> list[ReplayedDemo]:
         """``amount`` demos (all with -1) replayed with ``metadata``'s observations at ``frequency`` Hz.
 
@@ -630,7 +634,9 @@ class DemoStore:
         observation config are used, and its control rate when ``frequency`` is None.
         ``convert``: accept demos recorded with the other joint-position mode (absolute /
         delta) and convert them while replaying. Replays are verified (checkpoints, success)
-        and cached; ``workers`` > 1 replays cache misses in parallel.
+        and cached; ``workers`` > 1 replays cache misses in parallel. ``episode_only=False``:
+        each replay holds the whole recording, the steps after its episode's end too
+        (``report.episode_steps`` says where the episode ends).
         """
         from bigym.demonstrations.player import replay_many
 
@@ -642,7 +648,7 @@ class DemoStore:
         config = _config_dict(config)
         mode = normalise_action_mode(metadata.action_mode)
         results: list[ReplayedDemo | None] = [None] * len(entries)
-        keys = [ReplayCache.key(e.sha256, config, frequency, mode) for e in entries]
+        keys = [ReplayCache.key(e.sha256, config, frequency, mode, episode_only) for e in entries]
         if use_cache:
             for index, (entry, key) in enumerate(zip(entries, keys)):
                 results[index] = self.replays.get(entry.uuid, key)
@@ -660,6 +666,7 @@ class DemoStore:
                 demos, config, frequency, action_mode=metadata.action_mode if converting else None,
                 workers=workers, backend=backend, tolerance=tolerance, progress=progress,
                 on_result=store_result, description=f"replaying {canonical_task(metadata.task)}",
+                episode_only=episode_only,
             )  # fmt: skip
         return results  # type: ignore[return-value]
 

@@ -154,6 +154,30 @@ def test_a_checkpoint_in_evaluate_and_bigym_eval(demo_store, tmp_path):
     assert cli.exit_code == 1 and "brings its own observations" in cli.output
 
 
+def test_a_checkpoint_acts_with_another_temporal_ensembling_when_asked(demo_store, tmp_path):
+    path = tmp_path / "model.pt"
+    small_run("bc", demo_store, path, 20)
+    assert "ensemble_decay" not in checkpoint_factory(path).keywords, "ACT's own is the default"
+    factory = checkpoint_factory(path, 1.0)
+    assert factory.keywords["ensemble_decay"] == 1.0
+    env = ReachTargetMultiModal(
+        action_mode=JointPositionActionMode(floating_base=True, absolute=True), observation_config=STATE
+    )
+    try:
+        assert factory(env).decay == 1.0 and checkpoint_factory(path)(env).decay == 0.01
+    finally:
+        env.close()
+    with pytest.raises(ValueError, match="finite"):
+        checkpoint_factory(path, float("inf"))
+    out = tmp_path / "result.json"
+    cli = CliRunner().invoke(app, ["eval", TASK, "--policy", str(path), "--episodes", "1", "--workers", "1",
+                                   "--ensemble-decay", "1.0", "--json", str(out)])  # fmt: skip
+    assert cli.exit_code == 0, cli.output
+    assert "ensemble_decay=1.0" in json.loads(out.read_text())["policy"], "the record says how it acted"
+    cli = CliRunner().invoke(app, ["eval", TASK, "--policy", "random", "--ensemble-decay", "1.0"])
+    assert cli.exit_code == 1 and "setting of a trained checkpoint" in cli.output
+
+
 def test_bigym_train_command(demo_store, tmp_path):
     out = tmp_path / "cli.pt"
     args = ["train", "bc", "reach_target_multi_modal", "--store", str(demo_store.url), "--demos", "4", "--steps", "60",
@@ -240,6 +264,54 @@ def test_chunks_past_a_demos_end_are_masked_or_held(hold_end):
         assert not pads.any(), "every step of every chunk is trained"
     else:
         assert pads[4].tolist() == [False, True, True, True] and pads[1].tolist() == [False] * 4
+
+
+class _RecordedDemo(_Demo):
+    """A demo replayed with its whole recording: 8 steps, of which the episode is 5."""
+
+    def __init__(self, whole: bool = True) -> None:
+        super().__init__()
+        steps = 8 if whole else 5
+        self.actions = np.arange(16, dtype=np.float64).reshape(8, 2)[:steps]
+        self.observations = {"proprioception": np.arange(18, dtype=np.float32).reshape(9, 2)[: steps + 1]}
+        self.report = type("Report", (), {"episode_steps": 5, "replayed_steps": 8})()
+        self.uuid = "recorded"
+
+
+def test_tail_trains_the_chunks_past_an_episodes_end_on_the_recording():
+    from bigym.baselines.data import ChunkDataset
+
+    dataset = ChunkDataset([_RecordedDemo()], chunk=4, image_keys=[], tail=True)
+    assert len(dataset) == 5, "the samples are the episode's steps only"
+    last = dataset.normalizer.unnormalize_actions(dataset.chunks[4].numpy())
+    assert np.allclose(last, [[8, 9], [10, 11], [12, 13], [14, 15]]), "what the demonstrator went on doing"
+    assert dataset.pad.numpy()[3:].tolist() == [[False] * 4, [False] * 4]
+    masked = ChunkDataset([_RecordedDemo()], chunk=4, image_keys=[])
+    assert len(masked) == 8, "without tail every replayed step is a sample (episode replays hold only the episode)"
+    with pytest.raises(ValueError, match="without the steps after its episode's end"):
+        ChunkDataset([_RecordedDemo(whole=False)], chunk=4, image_keys=[], tail=True)
+
+
+def test_tail_replays_the_whole_recording_and_trains_on_it(demo_store, tmp_path):
+    from bigym.demonstrations import Metadata
+
+    env = ReachTargetMultiModal(
+        action_mode=JointPositionActionMode(floating_base=True, absolute=True), observation_config=STATE
+    )
+    try:
+        metadata = Metadata.from_env(env)
+    finally:
+        env.close()
+    episodes = demo_store.get_demos(metadata, amount=2)
+    whole = demo_store.get_demos(metadata, amount=2, episode_only=False)
+    for episode, recording in zip(episodes, whole):
+        assert len(episode) == episode.report.episode_steps < len(recording) == recording.report.replayed_steps
+        assert np.array_equal(recording.actions[: len(episode)], episode.actions)
+        assert recording.terminated[len(episode) - 1] and not episode.terminated[:-1].any()
+    again = demo_store.get_demos(metadata, amount=2)  # the cache keeps the two apart
+    assert [len(d) for d in again] == [len(d) for d in episodes]
+    checkpoint = small_run("bc", demo_store, tmp_path / "tail.pt", 20, settings={"tail": True})
+    assert checkpoint.config["tail"] is True and checkpoint.step == 20
 
 
 def test_a_checkpoint_from_before_the_hold_end_setting_resumes(demo_store, tmp_path):
