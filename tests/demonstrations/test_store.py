@@ -253,7 +253,7 @@ def test_killed_writer_leaves_no_partial_file(tmp_path, expert_demos, overwrite)
     assert Demo.load(demo.save(target)).uuid == demo.uuid  # a later write succeeds
 
 
-def test_replay_cache_key_covers_config_rate_and_mode():
+def test_replay_cache_key_covers_config_rate_mode_and_whole_recordings():
     base = ReplayCache.key("ab" * 32, ObservationConfig(), 50, JointPositionActionMode(absolute=True))
     assert base == ReplayCache.key("ab" * 32, None, 50.0, JointPositionActionMode(absolute=True))
     others = {
@@ -261,8 +261,10 @@ def test_replay_cache_key_covers_config_rate_and_mode():
         ReplayCache.key("ab" * 32, ObservationConfig.robot_cameras(), 50, JointPositionActionMode(absolute=True)),
         ReplayCache.key("ab" * 32, ObservationConfig(), 25, JointPositionActionMode(absolute=True)),
         ReplayCache.key("ab" * 32, ObservationConfig(), 50, JointPositionActionMode(absolute=False)),
+        ReplayCache.key("ab" * 32, ObservationConfig(), 50, JointPositionActionMode(absolute=True), episode_only=False),
     }
-    assert base not in others and len(others) == 4
+    assert base not in others and len(others) == 5
+    assert base == ReplayCache.key("ab" * 32, None, 50.0, JointPositionActionMode(absolute=True), episode_only=True)
 
 
 def test_remove_deletes_files_manifest_entries_and_replays(local_store, tmp_path):
