@@ -18,6 +18,8 @@ from collections.abc import Iterable
 import mujoco
 import numpy as np
 
+from bigym.hotloop import label_pairs_function
+
 MAX_BITS = 31  # two labels fold into one int64
 _LOW_BITS = (1 << MAX_BITS) - 1
 
@@ -68,6 +70,8 @@ class ContactState:
         self._held = False
         self._pairs: tuple[tuple[int, int], ...] | None = None
         self._geoms: np.ndarray | None = None
+        self._compiled_pairs = label_pairs_function()  # the same reduction in C (bigym.hotloop), or None
+        self._labels_address = int(self._labels.ctypes.data)  # geom_set updates the labels in place
 
     def geom_set(self, geom_ids: Iterable[int]) -> GeomSet:
         """Register a geom set (do it once, at bind time) and return it."""
@@ -112,6 +116,19 @@ class ContactState:
     def _label_pairs(self) -> tuple[tuple[int, int], ...]:
         if self._held and self._pairs is not None:
             return self._pairs
+        pairs = self._compiled_label_pairs() if self._compiled_pairs is not None else None
+        if pairs is None:
+            pairs = self._python_label_pairs()
+        if self._held:
+            self._pairs = pairs
+        return pairs
+
+    def _compiled_label_pairs(self) -> tuple[tuple[int, int], ...] | None:
+        """The distinct label pairs from C, or ``None`` when there are too many for it."""
+        contact = self._data.contact  # the ncon active contacts
+        return self._compiled_pairs(self._labels_address, contact.geom, contact.dist if self._check_distance else None)
+
+    def _python_label_pairs(self) -> tuple[tuple[int, int], ...]:
         labels = self._labels.take(self._active_geoms())
         first, second = labels[:, 0], labels[:, 1]
         # Most contacts involve an unregistered geom (robot links, walls) and the rest repeat a
@@ -123,10 +140,7 @@ class ContactState:
             keep[0] = True
             np.not_equal(codes[1:], codes[:-1], out=keep[1:])
             codes = codes[keep]
-        pairs = tuple((code >> MAX_BITS, code & _LOW_BITS) for code in set(codes.tolist()))
-        if self._held:
-            self._pairs = pairs
-        return pairs
+        return tuple((code >> MAX_BITS, code & _LOW_BITS) for code in set(codes.tolist()))
 
     def touching(self, a: GeomSet | np.ndarray, b: GeomSet | np.ndarray) -> bool:
         """Some touching contact joins a geom of ``a`` and a geom of ``b``."""

@@ -18,12 +18,14 @@ import numpy as np
 
 from bigym.action_modes import ActionMode, JointPositionActionMode
 from bigym.contacts import ContactState
+from bigym.hotloop import AVAILABLE as HOTLOOP_AVAILABLE
+from bigym.hotloop import STEP_INVALID, STEP_UNSTABLE, STEP_UNSUPPORTED, CompiledControlStep
 from bigym.layout import Layout
 from bigym.observations import ObservationConfig, ProprioceptionReader
-from bigym.visual_merge import merge_visual_geoms
 from bigym.rendering import CameraRenderer, ClosedRenderer, HumanViewer
 from bigym.robot.h1 import build_robot
 from bigym.robot.robot import Robot
+from bigym.visual_merge import merge_visual_geoms
 from bigym.world import TIMESTEP, add_world
 
 PHYSICS_FREQUENCY = round(1.0 / TIMESTEP)  # 500 Hz
@@ -119,6 +121,15 @@ class BiGymEnv(gym.Env):
         self._ramp_fractions = (np.arange(1, self.substeps) / self.substeps)[:, None]
         self._held = self._controller.torque if self._controller.torque.any() else None
         self._warning_counts = self.data.warning.number
+        # The same control step in C where bigym was built with its extension (bigym.hotloop).
+        self._compiled_step = (
+            CompiledControlStep(
+                self._controller, self.model, self.data, self._ctrl, self.substeps, self._held,
+                self._ramp_fractions, self._warning_counts,
+            )
+            if HOTLOOP_AVAILABLE
+            else None
+        )  # fmt: skip
         self._pelvis_xy = self.data.xpos[self.robot.pelvis_id, :2]
         self._privileged = self.observation_config.privileged_information
         self._human_view = render_mode == "human"
@@ -238,6 +249,18 @@ class BiGymEnv(gym.Env):
             info = {"is_success": False, "unstable": self._unstable_reason}
             return self._last_obs, 0.0, False, True, info
         controller = self._controller
+        compiled = self._compiled_step
+        if compiled is not None:
+            code = compiled.step(action)
+            if code == STEP_UNSUPPORTED:  # not a float32/float64 vector: convert (or explain) in Python
+                code = compiled.step(np.ascontiguousarray(controller.validate(action)))
+            if code == STEP_INVALID:
+                controller.validate(action)  # raises, naming every offending entry
+                raise RuntimeError("the compiled step path refused an action that Python accepts")
+            self._elapsed_steps += 1
+            if code == STEP_UNSTABLE:
+                return self._unstable_step()
+            return self._finish_step()
         action = controller.validate(action)
         model, data, ctrl = self.model, self.data, self._ctrl
         # mj_step2 then mj_step1 per physics step: the same physics as mj_step, bit for bit,
@@ -267,6 +290,10 @@ class BiGymEnv(gym.Env):
         self._elapsed_steps += 1
         if any(self._warning_counts.tolist()):  # ~10x faster than ndarray.any() on these few ints
             return self._unstable_step()
+        return self._finish_step()
+
+    def _finish_step(self):
+        """Observe, check success and failure, and say what the step returns."""
         obs = self._observe()
         self._last_obs = obs
         contacts = self.contacts

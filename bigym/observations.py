@@ -21,6 +21,8 @@ import gymnasium as gym
 import mujoco
 import numpy as np
 
+from bigym.hotloop import AVAILABLE as HOTLOOP_AVAILABLE
+from bigym.hotloop import CompiledGather
 from bigym.layout import Layout, LayoutEntry
 from bigym.robot.h1 import CAMERAS
 from bigym.robot.robot import GRIPPER_DRIVER_MAX, Robot
@@ -210,6 +212,7 @@ class ProprioceptionReader:
         self._base = self._slices["proprioception_floating_base"]
         self._slice_items = tuple(self._slices.items())
         self._data: mujoco.MjData | None = None  # the MjData the view below reads
+        self._compiled: CompiledGather | None = None  # the gather in C, once bound (bigym.hotloop)
 
     def _bind(self, data: mujoco.MjData) -> None:
         """The read-only view over ``data``'s qpos .. ctrl and the gather index into it. MjData
@@ -228,6 +231,14 @@ class ProprioceptionReader:
         # Only the indexed entries are ever read: each lies inside its own field.
         self._span = np.lib.stride_tricks.as_strided(fields[first], shape=(end,), strides=(8,), writeable=False)
         self._index = np.array([offsets[name] + adr for name, adr in self._sources], dtype=np.int64)
+        self._compiled = (
+            CompiledGather(
+                self._span, self._index, self._rows, self._left_gripper, self._right_gripper, self._gripper_scale,
+                self._constant_rows, self._constant_values,
+            )
+            if HOTLOOP_AVAILABLE
+            else None
+        )  # fmt: skip
         self._data = data
 
     def read(self, data: mujoco.MjData, obs: dict[str, np.ndarray]) -> None:
@@ -235,6 +246,13 @@ class ProprioceptionReader:
         array, so observations handed out earlier are never overwritten."""
         if data is not self._data:
             self._bind(data)
+        if self._compiled is not None:  # the same values from C (bigym.hotloop)
+            values = self._compiled.read()
+            if not self._floating:
+                values[self._base] = self.robot.base_pose(data)
+            for key, part in self._slice_items:
+                obs[key] = values[part]
+            return
         gathered = self._span.take(self._index)  # a new float64 array: rows, then 4 driver angles
         left_a, left_b, right_a, right_b = gathered[self._rows :].tolist()
         scale = self._gripper_scale

@@ -100,6 +100,7 @@ def checkpoint_factory(path: str | Path, ensemble_decay: float = ENSEMBLE_DECAY)
     when it is not ACT's)."""
     if not (isinstance(ensemble_decay, (int, float)) and math.isfinite(ensemble_decay)):
         raise ValueError(f"ensemble_decay must be a finite number, got {ensemble_decay!r}")
-    if ensemble_decay == ENSEMBLE_DECAY:
-        return functools.partial(load_policy, checkpoint=str(Path(path).resolve()))
-    return functools.partial(load_policy, checkpoint=str(Path(path).resolve()), ensemble_decay=float(ensemble_decay))
+    keywords: dict = {"checkpoint": str(Path(path).resolve())}
+    if ensemble_decay != ENSEMBLE_DECAY:
+        keywords["ensemble_decay"] = float(ensemble_decay)
+    return functools.partial(load_policy, **keywords)

@@ -32,11 +32,12 @@ def policy_spec(policy: str, task: str, ensemble_decay: float | None = None):
 
     if is_checkpoint(policy):
         from bigym.baselines import checkpoint_factory
-        from bigym.baselines.policy import ENSEMBLE_DECAY
 
         if not Path(policy).is_file():
             raise PolicyLoadError(f"no checkpoint at {policy}")
-        return checkpoint_factory(policy, ENSEMBLE_DECAY if ensemble_decay is None else ensemble_decay)
+        if ensemble_decay is None:
+            return checkpoint_factory(policy)
+        return checkpoint_factory(policy, ensemble_decay)
     if ensemble_decay is not None:
         raise PolicyLoadError("--ensemble-decay is a setting of a trained checkpoint (.pt) and needs one as --policy")
     if policy in BUILT_IN_POLICIES:
