@@ -246,13 +246,14 @@ class ProprioceptionReader:
         array, so observations handed out earlier are never overwritten."""
         if data is not self._data:
             self._bind(data)
-        if self._compiled is not None:  # the same values from C (bigym.hotloop)
-            values = self._compiled.read()
-            if not self._floating:
-                values[self._base] = self.robot.base_pose(data)
-            for key, part in self._slice_items:
-                obs[key] = values[part]
-            return
+        values = self._compiled.read() if self._compiled is not None else self._gather()  # C: the same values
+        if not self._floating:  # free-joint yaw is not linear in the state
+            values[self._base] = self.robot.base_pose(data)
+        for key, part in self._slice_items:
+            obs[key] = values[part]
+
+    def _gather(self) -> np.ndarray:
+        """Every row as float32 (the Python reference of the compiled gather)."""
         gathered = self._span.take(self._index)  # a new float64 array: rows, then 4 driver angles
         left_a, left_b, right_a, right_b = gathered[self._rows :].tolist()
         scale = self._gripper_scale
@@ -262,8 +263,4 @@ class ProprioceptionReader:
         gathered[self._right_gripper] = 0.0 if right <= 0.0 else 1.0 if right > 1.0 else right
         if self._constant_rows is not None:  # base DOFs that the floating base does not have
             gathered[self._constant_rows] = self._constant_values
-        values = gathered.astype(np.float32)
-        if not self._floating:  # free-joint yaw is not linear in the state
-            values[self._base] = self.robot.base_pose(data)
-        for key, part in self._slice_items:
-            obs[key] = values[part]
+        return gathered.astype(np.float32)
