@@ -4,6 +4,10 @@ A door opens by its handle only part of the way (the hand cannot follow the hand
 round a quarter turn); the hand then lets go and pushes the door's inner face near its
 free edge round to fully open. Closing goes the other way round: a fist on the outer
 face near the free edge swings it shut. A door that stopped short gets another push.
+Coming round the free edge to push, the fist keeps well back from the door's inner face
+(the closed fingers reach ahead of the hand, and a door they brush swings on by itself)
+but in front of the furniture (behind one half of a double door opened part of the way,
+the other half is there).
 A low door's sweep is kept clear of the base (it would hit the robot).
 """
 
@@ -24,6 +28,19 @@ SWEEP_CLEARANCE = 0.25
 #: a base-cabinet door opens to its stop: the push aims only this far (normalised) past it
 #: (an arm pressing on against a stopped door strains)
 DOOR_PUSH_PAST = 0.03
+#: how far (m) from a door's face the fist moves along it after coming round the free
+#: edge, before it moves in to push: the closed fingers reach about 0.1 m ahead of the
+#: pinch point, and nearer than this they brushed the door, which then swung on its own
+#: (by a different amount in a replay at another rate)
+ROUND_EDGE_STANDOFF = 0.15
+#: how far (m) in front of the furniture's front (the plane of its closed doors) the fist
+#: stays while it moves in to push a door's inner face: a narrow door opened part of the way
+#: leaves a narrow wedge, and further back the fist was behind the neighbouring closed door
+#: of a double door and pushed against it
+FRONT_MARGIN = 0.04
+#: how far (m) the fist's pads reach ahead of the point a push aims at, at first contact
+#: (the press's ``contact`` of 1.6 cm and the 1 cm the aim lies off the door's middle plane)
+PAD_REACH = 0.026
 #: how long (s) at most the plan waits for the door hand to come back to the body
 HAND_BACK = 2.0
 #: how far (m) the pelvis keeps inside an open base-cabinet door's plane (the torso and
@@ -193,19 +210,37 @@ class DoorSkills(Expert):
         fingers = direction + (0.4 + abs(self.human.jitter(0.1))) * facing
         hand, _ = self.hand_pose(side)
         via = None
+        standoff = 0.08
         side_now = float(np.sign((hand - edge) @ front))
         if (side_now > 0.0) == inner:  # on the other side: round the free edge, well clear of it
             clear = 0.15 + abs(self.human.jitter(0.02))
             up = np.array([0.0, 0.0, 0.02])
-            via = [edge + out * clear + side_now * front * 0.06 + up, edge + out * clear - side_now * front * 0.1 + up]
+            standoff = ROUND_EDGE_STANDOFF
+            behind = side_now * front * (standoff + 0.03)
+            via = [edge + out * clear + side_now * front * 0.06 + up, edge + out * clear - behind + up]
+        standoff = self.room_in_front(prop, key, point, direction, standoff)
         stance = None
         if base:
             distance = 0.45 if handle[2] < 1.2 else (0.62 if inner else 0.5)
             stance = self.stance(side, point, facing, distance=distance, lateral=0.15)
         yield from self.press(
-            side, point, direction, base_goal=stance, via=via, fingers=fingers, contact=0.016, depth=0.012
-        )
+            side, point, direction, base_goal=stance, via=via, fingers=fingers, contact=0.016, depth=0.012,
+            standoff=standoff,
+        )  # fmt: skip
         return direction
+
+    def room_in_front(self, prop: str, key: str, point: np.ndarray, direction: np.ndarray, standoff: float) -> float:
+        """``standoff``, or less where a fist that far back from ``point`` (pushing along
+        ``direction``) would be less than ``FRONT_MARGIN`` in front of the furniture's front:
+        behind a door opened only part of the way, there is little room."""
+        p = self.env.props[prop]
+        hinge = self.data.xanchor[p.joint_ids[p.joint_index(key)]]
+        facing = self.module_facing(prop)
+        into = float(-direction @ facing)  # how much of a step back from the door goes into the furniture
+        if into <= 1e-6:
+            return standoff
+        room = (-(point - hinge) @ facing - FRONT_MARGIN) / into - PAD_REACH
+        return float(np.clip(room, 0.02, standoff))
 
     def grasp_handle(self, side: int, prop: str, key: str, base: bool = True) -> Script:
         centre, bar, approach = self.handle_frame(prop, f"{key}_handle", "z")

@@ -632,13 +632,16 @@ class Expert:
         depth: float = 0.006,
         via: Sequence[np.ndarray] | None = None,
         fingers: np.ndarray | None = None,
+        standoff: float = 0.08,
     ) -> Script:
         """Bring a closed fist against a surface at ``point``, pushing along ``direction``.
 
         The closed fingertips end ``depth`` past first contact (the pads stick out about
         ``contact`` beyond the pinch point), so the hand presses gently. ``across`` is the
         fingers' closing direction (any horizontal one by default); ``fingers`` is where
-        the fingers point (``direction`` by default: knuckles first, a tilted fist otherwise).
+        the fingers point (``direction`` by default: knuckles first, a tilted fist otherwise);
+        ``standoff``: how far (m, plus a little) in front of the surface the fist comes
+        before it moves in.
         """
         self.note(f"press {'LR'[side]}")
         direction = np.asarray(direction, float) / np.linalg.norm(direction)
@@ -653,7 +656,7 @@ class Expert:
             x_axis = -x_axis
         rotation = frame_from_axes(x_axis, pointing)
         touch = point - direction * (contact - depth)
-        standoff = 0.08 + abs(self.human.jitter(0.02))
+        standoff = standoff + abs(self.human.jitter(0.02))
         pre = point - direction * (contact + standoff) + self.human.jitter(0.006, 3)
         self.grip[side] = 1.0
         ends = [

@@ -32,9 +32,10 @@ can land 3-4 cm off and push or tip the item. The cereal box (0.07 x 0.19 x 0.24
 the hardest: held near its end across its narrow faces, it turns in the fingers when the
 body moves, and it fills most of the 0.35 m under the counter, so it was dropped, pushed
 into the shelf or the counter, or its grasp missed, in most seeds that draw it. The
-detergent jug (1 kg, 0.26 m tall) was squeezed out of a grasp on its edge. Some replays
-at 25 or 50 Hz part from the recording while the hand pushes the door round (the arm's
-joints differ by 0.2-0.6 rad).
+detergent jug (1 kg, 0.26 m tall) was squeezed out of a grasp on its edge. Replays at 25
+or 50 Hz that parted from the recording while the hand pushed the door round (the arm's
+joints 0.2-0.6 rad apart) were mostly the fist brushing the door as it came round its free
+edge (``doors.ROUND_EDGE_STANDOFF``).
 
 Choices drawn per demo: the order of the items (mostly nearest the cupboard first), and
 with it the hand and the place on the shelf of each; where the body stands, how high the

