@@ -157,6 +157,7 @@ class CupLoadExpert(FlipCupExpert):
         looks: int = LOOKS,
         seen_off: float = SEEN_OFF,
         tilt: float = SET_DOWN_TILT,
+        nearer: float = 0.0,
     ) -> Script:
         """Bring the held mug upside down (``upright``: the right way up) over ``target``
         (x, y, and the top z of the ``support`` geoms' surface), look at it and move it over
@@ -166,7 +167,10 @@ class CupLoadExpert(FlipCupExpert):
         comes at the handle that way. The hand lowers it at most a few centimetres past
         where it should rest; ``feel_all_the_way``: past where it is seen to be (a hand
         that did not get down to where it was sent), and one that is not resting then is
-        lifted, straightened and lowered again. ``relax``: the arm relaxes afterwards."""
+        lifted, straightened and lowered again; ``nearer``: brought this far (m) nearer the
+        body as it is lifted, and lowered as far as the first time (a hand at full stretch
+        stops short of the shelf: nearer, the arm has the reach to go down). ``relax``: the
+        arm relaxes afterwards."""
         body = self.env.props[mug].root_body_id
         # the mug's origin is at its base: upside down, a mug's height above its rim
         bottom = 0.0 if upright else self.env.props[mug].height
@@ -201,8 +205,15 @@ class CupLoadExpert(FlipCupExpert):
             self.note(f"again {mug}")  # it hangs tilted, or stands on an edge: up, straight, down
             p, _ = self.hand_pose(side)
             level = self.level_rotation(side, body)
-            yield from self.until(self.move_hand(side, p + np.array([0.0, 0.0, 0.03]), level, HOLD, spread=0.0))
-            yield from self.lower_until(side, level, 0.03 + OVER_TRAY, 0.4, resting)
+            if nearer:
+                towards = self.base_pose()[:2] - p[:2]
+                back = np.append(nearer * towards / np.linalg.norm(towards), 0.03)
+                yield from self.until(self.move_hand(side, p + back, level, HOLD, spread=0.0))
+                depth = float(self.data.xpos[body][2] - target[2]) + OVER_TRAY + 0.03
+                yield from self.lower_until(side, level, depth, 0.4, resting)
+            else:
+                yield from self.until(self.move_hand(side, p + np.array([0.0, 0.0, 0.03]), level, HOLD, spread=0.0))
+                yield from self.lower_until(side, level, 0.03 + OVER_TRAY, 0.4, resting)
         self.hold_hand(side, HOLD, tremor=0.2)
         yield from self.wait(0.1)
         yield from self.release(side, back=0.08, up=0.06, relax=relax)

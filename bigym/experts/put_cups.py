@@ -22,10 +22,13 @@ A mug held by its handle's bar still turns about the bar (the pads hardly resist
 about it), so where each mug hangs from its hand is looked at before it goes in: that
 decides where across the half it goes (its hand passes between the side wall and the
 closed door's handle) and how far in (the hand reaches no further than the straight arm).
+The body stands on the open half's side of the cabinet's middle before the mugs go up
+(from further across, the elbow of the hand reaching in at the back met the open door).
 The hand on the open half's side puts its mug at the back, first; the other mug goes up
 once that arm is on its way down. A mug is let go once it touches the shelf within 30
 degrees of upright: the hand, reaching far in, does not hold it quite level, and it
-stands up by itself.
+stands up by itself; one that does not get down onto the shelf is brought nearer the body
+and lowered again.
 
 Choices drawn per demo: the door (and with it the half of the shelf and which mug goes
 first), which hand takes its mug first, where the body stands, the timing, and every
@@ -69,6 +72,11 @@ APPROACH_TURN = np.deg2rad(10.0)
 #: front, standing up
 CABINET_STANCE = 0.47
 STANDING = 1.03
+#: how far (m) at least the pelvis stands on the open half's side of the cabinet's middle
+#: (y): from further across, the hand reaching in at the back of the half was 3 cm outside
+#: its shoulder, and the elbow, out beside it, met the open door (the mug, let go short of
+#: the shelf, fell)
+STAND_INTO_HALF = 0.06
 #: where the mugs' middles (x) and bases (z) are held, standing, before each goes up
 HELD_X = 0.72
 HELD_Z = 1.22
@@ -97,6 +105,10 @@ SHELF_SEEN_OFF = 0.015
 #: a mug that touches the shelf is let go once it is within this (rad) of upright: it
 #: stands up by itself (the hand, reaching far in, does not hold it quite level)
 SHELF_TILT = np.deg2rad(30.0)
+#: how far (m) nearer the body a mug that did not get down onto the shelf is brought
+#: before it is lowered again: a hand reaching far in, the arm nearly straight, stopped
+#: 4-6 cm above the shelf, and the mug, let go there, fell
+AGAIN_NEARER = 0.05
 #: how much of the first arm's way down (share) the other mug waits for before it goes up
 RELAX_HEAD_START = 0.3
 #: the pelvis keeps this far (m) behind the counter's front
@@ -122,7 +134,7 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
         self._note_hand(f"{CABINET}/{door}", door_hand)
         yield from self.door(door_hand, CABINET, door, 1.0, margin=DOOR_MARGIN)
         yield from self.take_mugs(mug_of)
-        yield from self.stand_at_cabinet(mug_of)
+        yield from self.stand_at_cabinet(mug_of, half)
         # the hand on the open half's side puts its mug at the back of the half, first; the
         # other one's goes in front of it
         back = LEFT if half > 0 else RIGHT
@@ -212,15 +224,19 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
         turn = np.clip(np.arctan2(radial[1], radial[0]) - forward, -APPROACH_TURN, APPROACH_TURN)
         return handle, np.array([np.cos(forward + turn), np.sin(forward + turn), 0.0])
 
-    def stand_at_cabinet(self, mug_of: dict[int, str]) -> Script:
+    def stand_at_cabinet(self, mug_of: dict[int, str], half: float) -> Script:
         """Stand up, bringing the held mugs up in front of the cabinet (not under it: they
-        go up into it from there)."""
+        go up into it from there), at least ``STAND_INTO_HALF`` on the open ``half``'s side
+        of the cabinet's middle."""
         self.note("stand at cabinet")
         base = self.base_pose()
+        across = base[1] + self.human.jitter(0.02)
+        if half * across < STAND_INTO_HALF:
+            across = half * (STAND_INTO_HALF + abs(self.human.jitter(0.02)))
         stance = np.array(
             [
                 COUNTER_FRONT - CABINET_STANCE - abs(self.human.jitter(0.02)),
-                base[1] + self.human.jitter(0.02),
+                across,
                 STANDING + self.human.jitter(0.01),
                 self.human.jitter(0.04),
             ]
@@ -277,6 +293,7 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
             looks=SHELF_LOOKS,
             seen_off=SHELF_SEEN_OFF,
             tilt=SHELF_TILT,
+            nearer=AGAIN_NEARER,
         )
 
 

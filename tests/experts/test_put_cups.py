@@ -42,3 +42,25 @@ def test_both_mugs_end_upright_behind_the_one_open_door(env, run_episode):
         assert env.object_placed(mug)
         xs.append(env.data.xpos[body][0])
     assert abs(xs[0] - xs[1]) > MUG_GAP - 0.02  # one behind the other
+
+
+def test_the_body_stands_on_the_open_halfs_side_before_the_mugs_go_in(env):
+    """Seed 47 took the mugs standing 7 cm across the cabinet's middle from the open half:
+    reaching in at the back of the half, the elbow met the open door and the mug was let go
+    short of the shelf. The body now steps over before the mugs go up."""
+    from bigym.experts.put_cups import STAND_INTO_HALF
+
+    obs, _ = env.reset(seed=47)
+    expert = PutCupsExpert(env, seed=47)
+    across_at_put = None
+    info: dict = {}
+    for _ in range(env.max_episode_steps):
+        obs, _, terminated, truncated, info = env.step(expert(obs))
+        if across_at_put is None and any(e.startswith("put ") for _, e in expert.events):
+            across_at_put = float(expert.base_pose()[1])  # where the body stands as the first goes up
+        if terminated or truncated:
+            break
+    assert info.get("is_success"), expert.events
+    (job,) = expert.choices["hands"]
+    half = 1.0 if job.split(":")[0].endswith("door_right") else -1.0
+    assert across_at_put is not None and half * across_at_put >= STAND_INTO_HALF - 0.005
