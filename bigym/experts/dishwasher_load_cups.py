@@ -205,15 +205,15 @@ class CupLoadExpert(FlipCupExpert):
             self.note(f"again {mug}")  # it hangs tilted, or stands on an edge: up, straight, down
             p, _ = self.hand_pose(side)
             level = self.level_rotation(side, body)
+            lift = np.array([0.0, 0.0, 0.03])
             if nearer:
                 towards = self.base_pose()[:2] - p[:2]
-                back = np.append(nearer * towards / np.linalg.norm(towards), 0.03)
-                yield from self.until(self.move_hand(side, p + back, level, HOLD, spread=0.0))
+                lift[:2] = nearer * towards / np.linalg.norm(towards)
+            yield from self.until(self.move_hand(side, p + lift, level, HOLD, spread=0.0))
+            depth = 0.03 + OVER_TRAY
+            if nearer:  # as far as the first time, from where it is now
                 depth = float(self.data.xpos[body][2] - target[2]) + OVER_TRAY + 0.03
-                yield from self.lower_until(side, level, depth, 0.4, resting)
-            else:
-                yield from self.until(self.move_hand(side, p + np.array([0.0, 0.0, 0.03]), level, HOLD, spread=0.0))
-                yield from self.lower_until(side, level, 0.03 + OVER_TRAY, 0.4, resting)
+            yield from self.lower_until(side, level, depth, 0.4, resting)
         self.hold_hand(side, HOLD, tremor=0.2)
         yield from self.wait(0.1)
         yield from self.release(side, back=0.08, up=0.06, relax=relax)

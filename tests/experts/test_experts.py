@@ -23,20 +23,21 @@ import pytest
 from bigym.action_modes import JointPositionActionMode
 from bigym.demonstrations import Demo
 from bigym.experts import EXPERTS, HumanStyle, make_expert
-from bigym.experts.dataset import DATASET_TASKS, shipped_manifest_path
+from bigym.experts.dataset import shipped_manifest_path
 from bigym.experts.generate import generate_demos, record_attempt
 
 
-def _first_kept_from_10(task: str) -> int:
-    """The first seed from 10 on whose demo the shipped dataset holds (the build tried the
-    others and did not keep them: their attempt here would only cost time)."""
-    if task not in DATASET_TASKS:
-        return 10
-    kept = {d["seed"] for d in json.loads(shipped_manifest_path().read_text())["demos"] if d["task"] == task}
-    return min((s for s in kept if s >= 10), default=10)
+def _first_kept_from_10() -> dict[str, int]:
+    """Per task, the first seed from 10 on whose demo the shipped dataset holds (the build
+    tried the others and did not keep them: their attempt here would only cost time)."""
+    kept: dict[str, set[int]] = {}
+    for demo in json.loads(shipped_manifest_path().read_text())["demos"]:
+        kept.setdefault(demo["task"], set()).add(demo["seed"])
+    return {task: min((s for s in seeds if s >= 10), default=10) for task, seeds in kept.items()}
 
 
-CASES = [(task, _first_kept_from_10(task)) for task in EXPERTS]
+_FIRST = _first_kept_from_10()
+CASES = [(task, _FIRST.get(task, 10)) for task in EXPERTS]
 SPARE_SEEDS = 4
 
 
