@@ -46,6 +46,8 @@ HAND_BACK = 2.0
 #: how far (m) the pelvis keeps inside an open base-cabinet door's plane (the torso and
 #: the other arm)
 DOOR_CLEARANCE = 0.36
+#: how far (m) the arms keep from an open door's inner face (:meth:`DoorSkills.keep_arms_clear_of_open_door`)
+ARM_DOOR_CLEARANCE = 0.03
 #: orientation costs while taking a door's upright handle (the yaw about the bar is held too)
 HANDLE_ALIGN = np.array([1.5, 0.8, 2.0])
 
@@ -86,14 +88,7 @@ class DoorSkills(Expert):
         body = int(self.model.site_bodyid[site])
         handle_local = self.model.site_pos[site]
         sign = 1.0 if handle_local[1] > 0 else -1.0
-        panel = max(
-            (
-                g
-                for g in range(self.model.ngeom)
-                if self.model.geom_bodyid[g] == body and self.model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX
-            ),
-            key=lambda g: float(np.prod(self.model.geom_size[g])),
-        )
+        panel = self._door_panel(body)
         centre, half = self.model.geom_pos[panel], self.model.geom_size[panel]
         frame = self.data.xmat[body].reshape(3, 3)
         origin = self.data.xpos[body]
@@ -103,6 +98,15 @@ class DoorSkills(Expert):
         low, high = origin[2] + centre[2] - half[2] + 0.06, origin[2] + centre[2] + half[2] - 0.07
         point[2] = float(np.clip(height, low, high))
         return point, frame[:, 1] * sign, -frame[:, 0]
+
+    def _door_panel(self, body: int) -> int:
+        """The door's panel: its door body's largest box geom."""
+        boxes = [
+            g
+            for g in range(self.model.ngeom)
+            if self.model.geom_bodyid[g] == body and self.model.geom_type[g] == mujoco.mjtGeom.mjGEOM_BOX
+        ]
+        return max(boxes, key=lambda g: float(np.prod(self.model.geom_size[g])))
 
     def door(
         self,
@@ -151,6 +155,23 @@ class DoorSkills(Expert):
         outward -= facing * (outward @ facing)
         outward[2] = 0.0
         self.keep_base_behind(hinge, outward / np.linalg.norm(outward), clearance)
+
+    def keep_arms_clear_of_open_door(self, prop: str, key: str, clearance: float = ARM_DOOR_CLEARANCE) -> None:
+        """Keep both arms (elbow, forearm, wrist) ``clearance`` off the open door's inner
+        face, as it stands now: crouched beside it, the IK swung the elbow out into the
+        door, which then held the arm while the hand was carried on."""
+        p = self.env.props[prop]
+        body = int(self.model.site_bodyid[p.site_id(f"{key}_handle")])
+        panel = self._door_panel(body)
+        frame = self.data.geom_xmat[panel].reshape(3, 3)
+        thin = int(np.argmin(self.model.geom_size[panel]))
+        normal = frame[:, thin].copy()
+        centre = self.data.geom_xpos[panel]
+        if normal @ (self.data.xpos[p.root_body_id] - centre) > 0.0:
+            normal = -normal  # away from the cabinet's middle, where the arms work
+        b = float(normal @ centre) - float(self.model.geom_size[panel][thin]) - clearance
+        for side in (LEFT, RIGHT):
+            self.ik.arm_planes.planes.append((side, normal, b))
 
     def keep_out_of_sweep(self, prop: str, key: str) -> tuple[np.ndarray, float] | None:
         """Keep the base out of a low door's sweep (the door would hit the robot): a

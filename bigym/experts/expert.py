@@ -155,6 +155,7 @@ class Expert:
         self.human.speed *= self.pace.get(self.env.task_name, 1.0)
         self.ik.reset(self.data.qpos)
         self.ik.base_region.planes.clear()
+        self.ik.arm_planes.planes.clear()
         self.step_index = 0
         self.time = 0.0  # the plan's clock: it stops while the body catches up
         self._lag = 0.0

@@ -14,7 +14,11 @@ left hand fills the left half of the shelf, the right hand the right half (a han
 reaching across the body into the low cupboard turns the item over). The open door keeps
 the body from stepping as far left as the right hand's places need: that hand carries its
 item across in front of the cupboard before going in, and an item too far left for the
-right hand to be taken from beside it goes to the left hand. Under the counter a tall
+right hand to be taken from beside it goes to the left hand. A box goes to the hand that
+takes it without turning the body towards that hand (the right hand then takes it from
+the door's edge, across the body, and the left hand puts it on the right half, the body
+standing further right); the cereal box goes to the right hand where either would do.
+Under the counter a tall
 item is not raised above its place before it is lowered (its top would touch the counter,
 which the hand would take for the shelf).
 
@@ -24,15 +28,30 @@ from the cupboard: the hand that comes out from under the counter is in front of
 belly, and on its way to the hip it brushed the torso (such contacts make replays at
 other rates part from the recording). Why the door arm is relaxed in joint space after
 the door: pushing the door round leaves the arm in a turned-over posture from which the
-IK reaches the next item with the elbow up.
+IK reaches the next item with the elbow up. Why the arms then keep to a plane just inside
+the open door (``keep_arms_clear_of_open_door``): the IK knows no scene, and crouched
+beside the door it swung the left elbow out into the door's inner face, which held the
+arm while the body carried on, so that the item swung down out of the hand's line.
+Why the boxes' hands: the fingers close across a box's narrow faces, so the body turns
+with the box's yaw, and turned towards the hand that takes it, that shoulder draws back
+from the counter: the hand fell 15-40 cm short three times running and the pick gave up
+(most of the time limits before). The cereal box given to the left hand was dropped,
+left tilted on the shelf or not taken at all in 6 of 7 seeds (0-39), given to the right
+hand in 2 of 6.
 
 Known limits (dataset v2's build record has the figures per failure reason): the items
 stand 0.1-0.3 m in on the counter, at the edge of the crouched arm's reach, so a grasp
-can land 3-4 cm off and push or tip the item. The cereal box (0.07 x 0.19 x 0.24 m) is
-the hardest: held near its end across its narrow faces, it turns in the fingers when the
-body moves, and it fills most of the 0.35 m under the counter, so it was dropped, pushed
-into the shelf or the counter, or its grasp missed, in most seeds that draw it. The
-detergent jug (1 kg, 0.26 m tall) was squeezed out of a grasp on its edge. Replays at 25
+can land 3-4 cm off and push or tip the item. The boxes are the hardest. A box beside
+the door that suits only the right hand, from further than ``BOX_STANCE_SLACK``, still
+goes to the left hand, which falls short of it (the pick gives up). The cereal box
+(0.07 x 0.19 x 0.24 m) fills most of the 0.35 m under the counter: the body crouches to
+its lowest to carry it in, where the IK lets the hand's orientation go and the box tilts
+by 10-40 degrees and swings down (read as a drop), or is let go tilted and falls over.
+Nearest the door the right hand cannot take it, and the left hand still does. A person
+would carry it in with both hands, or lay it down; neither is done here. At the place
+furthest right the fingers met the cupboard's side wall on the way in (seed 53) and the
+item was let go on the shelf's front edge, from which it fell. The detergent
+jug (1 kg, 0.26 m tall) was squeezed out of a grasp on its edge. Replays at 25
 or 50 Hz that parted from the recording while the hand pushed the door round (the arm's
 joints 0.2-0.6 rad apart) were mostly the fist brushing the door as it came round its free
 edge (``doors.ROUND_EDGE_STANDOFF``).
@@ -94,6 +113,14 @@ HIP_WIDER = (0.0, 0.07)
 HAND_OFFSET = 0.2
 #: how far (m) the open door may push the body from where the right hand would take an item
 STANCE_SLACK = 0.06
+#: how far for a box: the right hand takes one from the door's edge, across the body, if
+#: it suits that hand and not the left (see :meth:`GroceriesExpert.box_hand`)
+BOX_STANCE_SLACK = 0.32
+#: how far for the cereal box, if it suits both hands (the right hand takes it then; from
+#: further away it fell short of it)
+LONG_BOX_STANCE_SLACK = 0.2
+#: how far (rad) the body may turn towards the hand that takes a box (:meth:`GroceriesExpert.suits`)
+TURN_TOWARDS = 0.2
 #: how often two neighbouring items in the nearest-first order are taken the other way round
 SWAP = 0.3
 
@@ -113,10 +140,13 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         door_side = self.door_side(CUPBOARD, DOOR)
         yield from self.open_cabinet_door(CUPBOARD, DOOR)
         yield from self.until(self.relax_arm(door_side, joint_space=True))
+        self.keep_arms_clear_of_open_door(CUPBOARD, DOOR)
         order = self.item_order()
         self.choices["order"] = order
         for item, y in zip(order, SHELF_SPOTS, strict=False):
-            side = LEFT if y > 0.0 else RIGHT
+            # the left hand can also put a box it suits on the right half (the body stands
+            # further right); the right hand cannot stand far enough left for the left half
+            side = LEFT if y > 0.0 or self.box_hand(item) == LEFT else RIGHT
             self.choices["hands"].append(f"{item}:{SIDE_NAMES[side]}")
             yield from self.take_item(side, item)
             yield from self.put_in_cupboard(side, item, np.array([SHELF_X, y, SHELF_TOP]))
@@ -126,13 +156,23 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
     # ------------------------------------------------------------------ choices
     def item_order(self) -> list[str]:
         """Nearest the cupboard first (largest y), with neighbours sometimes swapped; the
-        first half goes to the left hand. An item the right hand cannot stand beside (the
-        open door keeps the body right of it) goes to the left hand instead."""
+        first half goes to the left hand, the second to the right. A box goes to the hand
+        it suits (:meth:`suits`), the cereal box to the right hand where that hand can take
+        it (see the module's notes); an item the right hand cannot stand beside (the open
+        door keeps the body right of it) goes to the left hand."""
         order = sorted(self.env.chosen, key=lambda n: -self.item_y(n))
         for i in range(len(order) - 1):
             if self.rng.random() < SWAP:
                 order[i], order[i + 1] = order[i + 1], order[i]
         half = (len(order) + 1) // 2
+        for item in [n for n in order if self.is_box(n)]:
+            i = order.index(item)
+            if i >= half or self.box_hand(item) != RIGHT:
+                continue
+            # trade places with an item of the right half that is not a box
+            j = next((k for k in range(half, len(order)) if not self.is_box(order[k])), None)
+            if j is not None:
+                order[i], order[j] = order[j], order[i]
         for i in range(half, len(order)):
             if not self.right_hand_reaches(order[i]):
                 j = min(range(half), key=lambda k: self.item_y(order[k]))
@@ -140,13 +180,51 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
                     order[i], order[j] = order[j], order[i]
         return order
 
+    def box_hand(self, item: str) -> int | None:
+        """The hand a box should go to (None: either): the right one if the box suits it
+        and not the left and the right hand can take it from the door's edge, or if it is
+        the cereal box and the right hand stands nearer it than that; the left one if the
+        box suits only that."""
+        if not self.is_box(item):
+            return None
+        left, right = self.suits(LEFT, item), self.suits(RIGHT, item)
+        if right and not left and self.right_hand_reaches(item, BOX_STANCE_SLACK):
+            return RIGHT
+        if right and self.is_long_box(item) and self.right_hand_reaches(item, LONG_BOX_STANCE_SLACK):
+            return RIGHT
+        if left and not right:
+            return LEFT
+        return None
+
+    def suits(self, side: int, item: str) -> bool:
+        """Whether ``side``'s hand takes a box with the body (square to the counter) turned
+        no more than ``TURN_TOWARDS`` towards that hand: turned further towards it, that
+        shoulder draws back from the counter and the hand fell short of the box three
+        times running (the other hand turns the body the other way for the same box)."""
+        prop = self.env.props[item]
+        frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
+        yaw = float(np.arctan2(frame[1, 0], frame[0, 0])) + _narrow_axis_yaw(prop)
+        _, turn = self.face_closing(side, yaw, faces=2, facing_yaw=0.0)
+        return turn <= TURN_TOWARDS if side == LEFT else turn >= -TURN_TOWARDS
+
+    def is_box(self, item: str) -> bool:
+        """A box-shaped item (the fingers close across its narrow faces)."""
+        return _narrow_axis_yaw(self.env.props[item]) is not None
+
+    def is_long_box(self, item: str) -> bool:
+        """The cereal box: taken near one end, it fills most of the room under the counter."""
+        return type(self.env.props[item]).__name__ == "Cereals"
+
     def item_y(self, item: str) -> float:
         return float(self.data.xpos[self.env.props[item].root_body_id][1])
 
-    def right_hand_reaches(self, item: str) -> bool:
-        """Whether the body can stand where the right hand takes the item from."""
+    def right_hand_reaches(self, item: str, slack: float | None = None) -> bool:
+        """Whether the body can stand where the right hand takes the item from, give or take
+        ``slack`` (default: ``BOX_STANCE_SLACK`` for a box, else ``STANCE_SLACK``)."""
         stance = np.array([FRONT - TABLE_CLEARANCE, self.item_y(item) + HAND_OFFSET, COUNTER_CROUCH, 0.0])
-        return float(np.linalg.norm(self.clamp_to_region(stance)[:2] - stance[:2])) < STANCE_SLACK
+        if slack is None:
+            slack = BOX_STANCE_SLACK if self.is_box(item) else STANCE_SLACK
+        return float(np.linalg.norm(self.clamp_to_region(stance)[:2] - stance[:2])) < slack
 
     def closing(self, side: int, item: str) -> tuple[np.ndarray, float]:
         """The fingers' closing direction (and how far the body turns for it): across a

@@ -11,7 +11,9 @@ targets to the action. Tasks, in decreasing weight:
 * a :class:`mink.PostureTask`: the base towards its planned stance (x, y, height, yaw)
   and the arms towards a relaxed posture, weak enough that the hands win;
 
-with joint-range and velocity limits. Base and arms are one problem, so the base moves
+with joint-range and velocity limits, the arms kept off the torso and each other, and,
+where an expert sets them, half-planes the pelvis and the arms keep to (out of the
+furniture, out of an open door). Base and arms are one problem, so the base moves
 exactly as much as the hands need beyond what the plan already gives them.
 """
 
@@ -59,6 +61,47 @@ class BaseRegionLimit(mink.Limit):
             # never demand a jump back in: at worst, stop moving outwards
             h[row] = max(b - float(a @ xy), 0.0)
         return Constraint(g, h)
+
+
+#: points (link, local position, radius) along each arm that :class:`ArmPlaneLimit`
+#: keeps out of obstacles: the elbow, the middle of the forearm and the wrist
+ARM_POINTS = (
+    ("shoulder_yaw_link", (0.0, 0.0, -0.2), 0.03),
+    ("elbow_link", (0.14, 0.0, -0.0075), 0.025),
+    ("elbow_link", (0.28, 0.0, -0.015), 0.033),
+)
+
+
+class ArmPlaneLimit(mink.Limit):
+    """Keeps an arm's elbow, forearm and wrist inside half-planes ``a . p <= b`` (3-D):
+    the IK knows no scene, and an arm left to it can swing its elbow out into an open
+    door beside the body, which then holds the arm while the hand is carried on."""
+
+    def __init__(self, model: mujoco.MjModel, gain: float = 0.5) -> None:
+        self.model = model
+        self.gain = gain
+        self.points = [
+            [(model.body(f"{side}_{link}").id, np.array(local, float), radius) for link, local, radius in ARM_POINTS]
+            for side in SIDES
+        ]
+        self.planes: list[tuple[int, np.ndarray, float]] = []  # (side, a, b)
+        self._jac = np.zeros((3, model.nv))
+
+    def compute_qp_inequalities(self, configuration: mink.Configuration, dt: float) -> mink.limits.limit.Constraint:
+        from mink.limits.limit import Constraint
+
+        if not self.planes:
+            return Constraint()
+        data = configuration.data
+        rows, bounds = [], []
+        for side, a, b in self.planes:
+            for body, local, radius in self.points[side]:
+                point = data.xpos[body] + data.xmat[body].reshape(3, 3) @ local
+                mujoco.mj_jac(self.model, data, self._jac, None, point, body)
+                rows.append(a @ self._jac)
+                # never demand a jump back out: at worst, stop moving further in
+                bounds.append(self.gain * max(b - radius - float(a @ point), 0.0))
+        return Constraint(np.array(rows), np.array(bounds))
 
 
 def self_collision_pairs(model: mujoco.MjModel) -> list[tuple[list[int], list[int]]]:
@@ -149,10 +192,12 @@ class WholeBodyIK:
             else:
                 velocities[name] = WRIST_SPEED if name.endswith("wrist") else ARM_SPEED
         self.base_region = BaseRegionLimit(model)
+        self.arm_planes = ArmPlaneLimit(model)
         self.limits = [
             mink.ConfigurationLimit(model, gain=0.5),
             mink.VelocityLimit(model, velocities),
             self.base_region,
+            self.arm_planes,
             mink.CollisionAvoidanceLimit(
                 model,
                 self_collision_pairs(model),
