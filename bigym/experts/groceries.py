@@ -201,10 +201,7 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
         no more than ``TURN_TOWARDS`` towards that hand: turned further towards it, that
         shoulder draws back from the counter and the hand fell short of the box three
         times running (the other hand turns the body the other way for the same box)."""
-        prop = self.env.props[item]
-        frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
-        yaw = float(np.arctan2(frame[1, 0], frame[0, 0])) + _narrow_axis_yaw(prop)
-        _, turn = self.face_closing(side, yaw, faces=2, facing_yaw=0.0)
+        _, turn = self.face_closing(side, self.narrow_faces_yaw(item), faces=2, facing_yaw=0.0)
         return turn <= TURN_TOWARDS if side == LEFT else turn >= -TURN_TOWARDS
 
     def is_box(self, item: str) -> bool:
@@ -229,12 +226,15 @@ class GroceriesExpert(GraspingExpert, DoorSkills):
     def closing(self, side: int, item: str) -> tuple[np.ndarray, float]:
         """The fingers' closing direction (and how far the body turns for it): across a
         box's narrow faces, any way round a round item (the hand's comfortable one)."""
-        prop = self.env.props[item]
-        narrow = _narrow_axis_yaw(prop)
-        if narrow is None:
+        if not self.is_box(item):
             return self.face_closing(side, self.base_pose()[3], faces=8)
+        return self.face_closing(side, self.narrow_faces_yaw(item), faces=2)
+
+    def narrow_faces_yaw(self, item: str) -> float:
+        """The world yaw (rad) of a box's narrow faces' normal, as it stands now."""
+        prop = self.env.props[item]
         frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
-        return self.face_closing(side, float(np.arctan2(frame[1, 0], frame[0, 0])) + narrow, faces=2)
+        return float(np.arctan2(frame[1, 0], frame[0, 0])) + _narrow_axis_yaw(prop)
 
     def item_height(self, item: str) -> float:
         """Height (m) of an item's colliders above its base."""

@@ -48,7 +48,6 @@ def test_an_arm_reaching_out_keeps_its_elbow_inside_its_plane(env):
     goal = pelvis + np.array([0.25, 0.55, 0.2])  # far out to the left, at the chest
     plane_y = pelvis[1] + 0.3
 
-    ik.reset(env.data.qpos)
     _reach_out(ik, goal)
     free = max(float(p[1]) + r for p, r in _left_arm_points(ik))
     assert free > plane_y + 0.05  # unconstrained, the elbow or wrist goes well past the plane
