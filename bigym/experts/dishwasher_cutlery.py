@@ -76,6 +76,9 @@ class CutleryUnloadExpert(GraspingExpert):
     #: let go 15-20 deg from flat, a piece falls the rest of the way onto the tray's floor:
     #: its origin moves down at up to about 0.8 m/s (a drop from a hand is faster)
     drop_speeds: ClassVar[dict[str, float]] = {"knife": 1.0, "fork": 1.0}
+    #: a piece stood upright, tipped over and let go falls flat by itself (35 deg and more
+    #: from how it was let go): laid down on purpose, not knocked over
+    may_tip: ClassVar[tuple[str, ...]] = ("knife", "fork")
     #: how far past its compartment's middle (m) a piece's lower end is stood
     pivot_ahead: ClassVar[float] = PIVOT_AHEAD
     #: each hand's compartments, and how often each is chosen

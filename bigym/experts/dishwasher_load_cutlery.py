@@ -93,6 +93,8 @@ class CutleryLoadExpert(CutleryUnloadExpert):
     #: a piece let go in the basket falls only from its small lean to the wall: the
     #: default drop allowance holds (unlike the unload expert's, which lays pieces flat)
     drop_speeds: ClassVar[dict[str, float]] = {}
+    #: nor does it tip over by itself (unlike the unload expert's pieces, laid flat)
+    may_tip: ClassVar[tuple[str, ...]] = ()
 
     def start(self) -> None:
         #: the body's yaw and stance at the mug, and the line of the piece being taken

@@ -120,6 +120,10 @@ class Expert:
     #: the fastest fall (m/s down) that is not a dropped object (default
     #: :data:`bigym.experts.incidents.DROP_SPEED`)
     drop_speeds: ClassVar[dict[str, float]] = {}
+    #: objects the demonstrator tips over on purpose without holding them (turned by a
+    #: tool, let fall upright into a basket), by name: not "knocked over" (see
+    #: :class:`bigym.experts.incidents.IncidentWatch`)
+    may_tip: ClassVar[tuple[str, ...]] = ()
     #: the task's success can flicker before the job is done (a hold whose contacts come
     #: and go while the object touches its target): a recording of this expert ends only
     #: once the task has been successful for a whole ``AFTER_SUCCESS`` (see

@@ -160,6 +160,7 @@ def record_attempt(
     style: dict | None = None,
     verify: bool = True,
     date: str | None = None,
+    reject_incidents: bool = True,
     *,
     expert_class: type | None = None,
     rates: tuple[float, ...] | None = None,
@@ -173,6 +174,12 @@ def record_attempt(
     ``success_must_last``, once the task has been successful for the step that succeeds and
     ``AFTER_SUCCESS`` s after it without a break (the same end when the first success holds;
     "success did not last" when no such stretch begins within the time limit).
+
+    ``reject_incidents``: reject the attempt at the first mishap the incident watch names
+    (an object dropped, knocked over or pushed into a surface; see
+    :mod:`bigym.experts.incidents`). Off only to regenerate a file whose bytes are known
+    (:func:`regenerate`): the sha256 decides there, and a demo shipped before a check was
+    added stays reproducible.
 
     ``date``: the date written into the demo (default now); with a fixed date the demo's
     bytes depend only on the task, seed, style and versions, and on this process's numpy
@@ -191,7 +198,7 @@ def record_attempt(
         expert = make_expert(env, seed=seed, style=human_style)
     else:
         expert = expert_class(env, seed=seed, style=human_style)
-    watch = IncidentWatch(env, expert.drop_speeds)
+    watch = IncidentWatch(env, expert.drop_speeds, expert.may_tip)
     margin = round(AFTER_SUCCESS * CONTROL_FREQUENCY)
     after = None
     lasted = 0  # steps the success has held without a break (experts whose success must last)
@@ -200,7 +207,7 @@ def record_attempt(
         obs, _, terminated, truncated, info = recorder.step(expert(obs))
         if "unstable" in info:
             break
-        incident = watch.check()
+        incident = watch.check() if reject_incidents else None
         if incident is not None:
             duration = recorder.num_steps / CONTROL_FREQUENCY
             recorder.discard()
@@ -384,9 +391,9 @@ def regenerate(
 ) -> Iterator[list[Attempt]]:
     """Record the expert again on ``seeds`` of a dataset built from ``first_seed`` on, with
     its ``date``: the same bytes the dataset build kept for those seeds, without the replay
-    checks (the shipped manifest's sha256 proves the bytes). Yields attempts as they finish,
-    in lists like :func:`run_attempts`."""
-    jobs = [(task, seed - first_seed, seed, None, False, date) for seed in seeds]
+    checks and the incident watch (the shipped manifest's sha256 proves the bytes). Yields
+    attempts as they finish, in lists like :func:`run_attempts`."""
+    jobs = [(task, seed - first_seed, seed, None, False, date, False) for seed in seeds]
     return run_attempts(jobs, max(1, min(workers, len(jobs))), backend)
 
 

@@ -77,3 +77,22 @@ def test_a_success_that_never_lasts_is_not_a_demo():
     attempt = record_attempt("ReachTargetSingle", 0, 3, verify=False, date=DATE, expert_class=NeverLasting)
     assert not attempt.success
     assert attempt.reason == "success did not last"
+
+
+def test_a_mishap_the_incident_watch_names_rejects_the_attempt_unless_the_bytes_are_known(monkeypatch):
+    # the watch's own cases are in test_incidents.py; here, that the generator acts on it
+    from bigym.experts import generate
+
+    plain = record_attempt("ReachTargetSingle", 0, 3, verify=False, date=DATE, expert_class=ReachExpert)
+    assert plain.success and plain.duration > 1.5
+
+    def a_mishap_after_a_second(watch):
+        return "block knocked over at t=1.00 s" if watch.env.data.time >= 1.0 else None
+
+    monkeypatch.setattr(generate.IncidentWatch, "check", a_mishap_after_a_second)
+    rejected = record_attempt("ReachTargetSingle", 0, 3, verify=False, date=DATE, expert_class=ReachExpert)
+    assert not rejected.success and rejected.data is None
+    assert rejected.reason == "rejected: block knocked over at t=1.00 s"
+    # regenerating a shipped file (its sha256 decides) records it whatever the watch says
+    kept = record_attempt("ReachTargetSingle", 0, 3, None, False, DATE, False, expert_class=ReachExpert)
+    assert kept.success and kept.data == plain.data

@@ -1,5 +1,6 @@
-"""The generator's incident watch: drops and objects pushed into surfaces are named; a quiet
-scene and a task without free objects give nothing."""
+"""The generator's incident watch: drops, objects knocked over and objects pushed into
+surfaces are named; a quiet scene, a held object turned over and a task without free
+objects give nothing."""
 
 from __future__ import annotations
 
@@ -7,6 +8,7 @@ import mujoco
 import numpy as np
 import pytest
 
+from bigym.action_modes import JointPositionActionMode
 from bigym.envs.manipulation import StackBlocks
 from bigym.envs.reach_target import ReachTargetSingle
 from bigym.experts.incidents import IncidentWatch
@@ -79,10 +81,72 @@ def test_a_fall_within_the_objects_own_allowance_is_no_drop(blocks):
     assert run(blocks, IncidentWatch(blocks, {"block_2": 1.6}), 250) == []
     blocks.data.qpos[:], blocks.data.qvel[:], blocks.data.time = state
     # the allowance is the named object's alone
-    blocks.props["block_3"].set_pose(blocks.data, (x + 0.2, y, z + 0.08), (1.0, 0.0, 0.0, 0.0))
+    blocks.props["block_3"].set_pose(blocks.data, (x, y - 0.12, z + 0.08), (1.0, 0.0, 0.0, 0.0))
     assert run(blocks, IncidentWatch(blocks, {"block_2": 1.6}), 250)[0].startswith("block_3 dropped at t=")
 
 
 def test_an_allowance_for_an_object_the_task_lacks_is_refused(blocks):
     with pytest.raises(ValueError, match="spoon"):
         IncidentWatch(blocks, {"spoon": 1.6})
+
+
+def tip_onto_its_side(env, name: str) -> None:
+    """Turn a resting block a quarter turn about x where it stands (a cube rests the same)."""
+    prop = env.props[name]
+    position = env.data.xpos[prop.root_body_id].copy()
+    half = np.sqrt(0.5)
+    prop.set_pose(env.data, position, (half, half, 0.0, 0.0))
+    mujoco.mj_forward(env.model, env.data)
+
+
+def test_a_block_tipped_over_while_no_hand_holds_it_is_knocked_over(blocks):
+    blocks.reset(seed=0)
+    watch = IncidentWatch(blocks)
+    assert watch.check() is None  # upright, as it stood at the start
+    tip_onto_its_side(blocks, "block_2")
+    incident = watch.check()
+    assert incident is not None and incident.startswith("block_2 knocked over at t=")
+    assert "tilted 90 deg unheld" in incident
+
+
+def test_an_object_the_demonstrator_may_tip_is_not_knocked_over(blocks):
+    blocks.reset(seed=0)
+    watch = IncidentWatch(blocks, may_tip=["block_2"])
+    assert watch.check() is None
+    tip_onto_its_side(blocks, "block_2")
+    assert watch.check() is None
+    assert np.degrees(watch.peak_tilt[watch.names.index("block_2")]) == pytest.approx(90.0, abs=0.5)
+    tip_onto_its_side(blocks, "block_3")  # the exemption is the named object's alone
+    assert watch.check().startswith("block_3 knocked over")
+    with pytest.raises(ValueError, match="may_tip names \\['spoon'\\]"):
+        IncidentWatch(blocks, may_tip=["spoon"])
+
+
+def test_a_mug_turned_over_in_the_hand_is_held_not_knocked_over():
+    # FlipCup: the expert grips the mug from two sides and turns it over; the watch sees
+    # it held, follows its turn, and the mug stands as it was let go
+    from bigym.envs.manipulation import FlipCup
+    from bigym.experts import make_expert
+
+    env = FlipCup(action_mode=JointPositionActionMode(floating_base=True, absolute=True), control_frequency=500)
+    try:
+        obs, _ = env.reset(seed=0)
+        expert = make_expert(env, seed=0)
+        watch = IncidentWatch(env, expert.drop_speeds, expert.may_tip)
+        start_up = env.data.xmat[watch.bodies[0], 6:9].copy()
+        held_steps, incidents, success = 0, [], False
+        for _ in range(4000):  # its demo on seed 0 lasts 3692 steps
+            obs, _, terminated, truncated, info = env.step(expert(obs))
+            held_steps += int(watch.held()[0])
+            incident = watch.check()
+            if incident is not None:
+                incidents.append(incident)
+            success = success or info["is_success"]
+            if terminated or truncated:
+                break
+        turned = np.degrees(np.arccos(np.clip(env.data.xmat[watch.bodies[0], 6:9] @ start_up, -1, 1)))
+        assert success and incidents == []
+        assert held_steps > 500 and turned > 150.0
+        assert np.degrees(watch.peak_tilt[0]) < 20.0
+    finally:
+        env.close()
