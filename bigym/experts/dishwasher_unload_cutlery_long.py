@@ -85,6 +85,8 @@ class CutleryDrawerExpert(CutleryUnloadExpert, DrawerSkills, DishwasherExpert):
     #: 15-20 degrees onto the tray's floor: its origin moved down at up to 1.05 m/s in the
     #: drawer (a drop from a carrying hand is well over 1.5 m/s)
     drop_speeds: ClassVar[dict[str, float]] = {"fork": 1.1}
+    #: the fork alone, laid flat the same way (this task has no knife)
+    may_tip: ClassVar[tuple[str, ...]] = ("fork",)
     #: the fork's lower end at its compartment's middle: the drawer's back half is under
     #: the counter top, and the fork is stood upright before it is tipped over
     pivot_ahead: ClassVar[float] = 0.0

@@ -150,3 +150,22 @@ def test_a_mug_turned_over_in_the_hand_is_held_not_knocked_over():
         assert np.degrees(watch.peak_tilt[0]) < 20.0
     finally:
         env.close()
+
+
+def test_every_expert_names_only_objects_of_its_tasks_as_allowed_to_fall_or_tip():
+    # a name that is not a free object of the task would make every attempt of it fail
+    from bigym.demonstrations.player import resolve_task
+    from bigym.experts import EXPERTS, expert_class
+
+    checked = 0
+    for task in EXPERTS:
+        expert = expert_class(task)
+        if not (expert.drop_speeds or expert.may_tip):
+            continue
+        env = resolve_task(task)(control_frequency=500)
+        try:
+            IncidentWatch(env, expert.drop_speeds, expert.may_tip)
+        finally:
+            env.close()
+        checked += 1
+    assert checked >= 4  # flip_cutlery, both cutlery unloads, sandwich_remove
