@@ -121,7 +121,7 @@ class Expert:
     #: :data:`bigym.experts.incidents.DROP_SPEED`)
     drop_speeds: ClassVar[dict[str, float]] = {}
     #: objects the demonstrator tips over on purpose without holding them (turned by a
-    #: tool, let fall upright into a basket), by name: not "knocked over" (see
+    #: tool, stood up and tipped over to lie flat), by name: not "knocked over" (see
     #: :class:`bigym.experts.incidents.IncidentWatch`)
     may_tip: ClassVar[tuple[str, ...]] = ()
     #: the task's success can flicker before the job is done (a hold whose contacts come
