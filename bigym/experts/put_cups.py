@@ -30,6 +30,14 @@ degrees of upright: the hand, reaching far in, does not hold it quite level, and
 stands up by itself; one that does not get down onto the shelf is brought nearer the body
 and lowered again.
 
+Why a mug goes up slowly (``CARRY_SPEED``): held by its handle's bar, a mug swung up and
+across the body at the usual pace slipped out of the fingers. Why the arms keep a plane
+inside the open door once the mugs are held: a door left 0.75-0.9 open stands out over
+where the mugs go up, and the wrist caught on its lower edge (the mug went in under the
+cabinet and fell). Why the empty hand is drawn straight out of the cabinet before the
+arm relaxes: relaxing from inside, the hand met the open door (and the demo did not
+replay at 50 Hz).
+
 Choices drawn per demo: the door (and with it the half of the shelf and which mug goes
 first), which hand takes its mug first, where the body stands, the timing, and every
 path's via-points; where each mug stands follows from how it hangs.
@@ -44,7 +52,7 @@ import numpy as np
 from bigym.envs.pick_and_place import WALL_SHELF_BOTTOM_TOP
 from bigym.experts.cupboards import CupboardExpert
 from bigym.experts.dishwasher_load_cups import LIFT, LIFT_SLOWNESS, CupLoadExpert
-from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, Script, together
+from bigym.experts.expert import FREE, LEFT, RIGHT, SIDE_NAMES, Script, together
 from bigym.experts.grasping import HOLD, to_base
 
 MUGS = ("mug_1", "mug_2")
@@ -113,6 +121,18 @@ AGAIN_NEARER = 0.05
 RELAX_HEAD_START = 0.3
 #: the pelvis keeps this far (m) behind the counter's front
 BASE_CLEARANCE = 0.18
+#: how fast (m/s, on average) at most a mug is raised and carried to in front of its
+#: place: held by the handle's bar, a mug swung up and across the body at the usual pace
+#: (0.6-0.9 m/s at the peak) slipped out of the fingers (and fell on the other)
+CARRY_SPEED = 0.3
+#: how far (m) the arms keep from the open door's inner face once the mugs are held: the
+#: wrist's gripper, raising its mug in front of a door left 0.75-0.9 open, caught on the
+#: door's lower edge (and the mug went in under the cabinet, and fell)
+DOOR_ARM_CLEARANCE = 0.08
+#: how far (m) in front of the cabinet the hand is drawn back, level, after letting a mug
+#: go, before the arm relaxes: an arm relaxing straight from inside the cabinet met the
+#: open door with its hand (and the demo did not replay at 50 Hz)
+WITHDRAW = 0.1
 
 
 class PutCupsExpert(CupLoadExpert, CupboardExpert):
@@ -134,6 +154,9 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
         self._note_hand(f"{CABINET}/{door}", door_hand)
         yield from self.door(door_hand, CABINET, door, 1.0, margin=DOOR_MARGIN)
         yield from self.take_mugs(mug_of)
+        # the door may stand a little short of fully open, its lower edge out over where the
+        # mugs go up in front of the cabinet
+        self.keep_arms_clear_of_open_door(CABINET, door, DOOR_ARM_CLEARANCE)
         yield from self.stand_at_cabinet(mug_of, half)
         # the hand on the open half's side puts its mug at the back of the half, first; the
         # other one's goes in front of it
@@ -275,9 +298,10 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
             [CABINET_FRONT - RAISE_BEFORE, across(), WALL_SHELF_BOTTOM_TOP + OVER_SHELF + abs(self.human.jitter(0.01))]
         )
         level = self.level_rotation(side, body)
-        yield from self.until(
-            self.move_hand(side, raised + self.hanging(side, mug), level, HOLD, spread=0.1, tremor=0.3)
-        )
+        goal = raised + self.hanging(side, mug)
+        distance = float(np.linalg.norm(goal - self.hand_pose(side)[0]))
+        duration = max(self.human.duration(distance), distance / CARRY_SPEED)
+        yield from self.until(self.move_hand(side, goal, level, HOLD, duration=duration, spread=0.1, tremor=0.3))
         # look again: how it hangs now decides how far in and across it goes
         offset = self.hanging(side, mug)
         target = np.array([min(x + jitter[1], reach - offset[0]), across(), WALL_SHELF_BOTTOM_TOP])
@@ -288,13 +312,23 @@ class PutCupsExpert(CupLoadExpert, CupboardExpert):
             target,
             shelf,
             feel_all_the_way=True,
-            relax=relax,
+            relax=False,
             upright=True,
             looks=SHELF_LOOKS,
             seen_off=SHELF_SEEN_OFF,
             tilt=SHELF_TILT,
             nearer=AGAIN_NEARER,
         )
+        yield from self.withdraw(side)
+        if relax:
+            self.relax_arm(side)
+
+    def withdraw(self, side: int) -> Script:
+        """Draw the empty hand straight back out of the cabinet, level, to ``WITHDRAW`` in
+        front of it: from there the arm relaxes clear of the open door."""
+        p, r = self.hand_pose(side)
+        out = np.array([min(p[0], CABINET_FRONT - WITHDRAW - abs(self.human.jitter(0.02))), p[1], p[2]])
+        yield from self.until(self.move_hand(side, out, r, FREE, spread=0.2, precision=0.05))
 
 
 __all__ = ["PutCupsExpert"]
