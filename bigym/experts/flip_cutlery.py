@@ -54,6 +54,10 @@ class FlipCutleryExpert(FlipCupExpert):
     #: let go with its tip ~8 cm over the mug's bottom (the fingers stop at the rim), the
     #: spoon falls in and tips against the rim: its origin moves down at up to 1.5 m/s
     drop_speeds: ClassVar[dict[str, float]] = {SPOON: 1.6}
+    #: let go upright over the mug, the spoon falls in and comes to lean against the rim,
+    #: 40-42 degrees from how it was held in the demos looked at: the way it is put down,
+    #: not a knock (the mug is still watched)
+    may_tip: ClassVar[tuple[str, ...]] = (SPOON,)
 
     def plan(self) -> Script:
         head = self.site(SPOON, "head")

@@ -169,3 +169,36 @@ def test_every_expert_names_only_objects_of_its_tasks_as_allowed_to_fall_or_tip(
             env.close()
         checked += 1
     assert checked >= 4  # flip_cutlery, both cutlery unloads, sandwich_remove
+
+
+def test_one_finger_against_an_object_is_no_hold_so_a_tip_it_gives_is_a_knock(blocks):
+    # a single finger pad touching a block only pushes it: the block's tilt keeps counting
+    # from how it stood, and a quarter turn there is a knock; held from two sides (the
+    # FlipCup test above) the reference would follow it
+    blocks.reset(seed=0)
+    model, data = blocks.model, blocks.data
+    watch = IncidentWatch(blocks)
+    assert watch.check() is None
+    pad, other = model.geom("left_gripper/left_pad1").id, model.geom("left_gripper/right_pad1").id
+    frame = data.geom_xmat[pad].reshape(3, 3)
+    thin = int(np.argmin(model.geom_size[pad]))
+    inward = frame[:, thin] * np.sign(frame[:, thin] @ (data.geom_xpos[other] - data.geom_xpos[pad]))
+    half = 0.025  # the block's half size
+    centre = data.geom_xpos[pad] + inward * (model.geom_size[pad][thin] + half - 0.0005)
+    root = np.sqrt(0.5)
+    blocks.props["block_2"].set_pose(data, centre, (root, root, 0.0, 0.0))  # a quarter turn
+    mujoco.mj_forward(model, data)
+    block_geoms = set(blocks.props["block_2"].collision_geom_ids)
+    touching = {
+        int(g)
+        for c in data.contact[: data.ncon]
+        if c.dist <= 0.0 and (c.geom[0] in block_geoms or c.geom[1] in block_geoms)
+        for g in c.geom
+        if g not in block_geoms
+    }
+    fingers = set(blocks.robot.gripper_geom_ids_by_side[0]) | set(blocks.robot.gripper_geom_ids_by_side[1])
+    assert pad in touching and other not in touching
+    assert touching <= fingers  # nothing but the gripper touches it
+    assert not watch.held()[watch.names.index("block_2")]
+    incident = watch.check()
+    assert incident is not None and incident.startswith("block_2 knocked over at t=")
