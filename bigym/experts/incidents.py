@@ -13,7 +13,8 @@ demos.
   finger tips onto its side. Held means gripped from two sides: both fingers of one
   gripper, or both grippers (a two-handed squeeze); a single finger only pushes. Objects
   the demonstrator tips on purpose without holding them (a sandwich turned over by the
-  spatula, cutlery stood up and tipped over to lie flat in a tray) are exempt by name;
+  spatula, cutlery stood up and tipped over to lie flat in a tray, a spoon let fall into
+  a mug, where it comes to lean against the rim) are exempt by name;
 * pushed through a surface: a contact of a free object penetrates deeper than
   ``MAX_PENETRATION`` (grasped objects stay under 1 mm).
 """
