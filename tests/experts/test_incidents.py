@@ -183,22 +183,18 @@ def test_one_finger_against_an_object_is_no_hold_so_a_tip_it_gives_is_a_knock(bl
     frame = data.geom_xmat[pad].reshape(3, 3)
     thin = int(np.argmin(model.geom_size[pad]))
     inward = frame[:, thin] * np.sign(frame[:, thin] @ (data.geom_xpos[other] - data.geom_xpos[pad]))
-    half = 0.025  # the block's half size
+    block = blocks.props["block_2"]
+    half = float(model.geom_size[block.collision_geom_ids[0]][0])  # a cube
     centre = data.geom_xpos[pad] + inward * (model.geom_size[pad][thin] + half - 0.0005)
     root = np.sqrt(0.5)
-    blocks.props["block_2"].set_pose(data, centre, (root, root, 0.0, 0.0))  # a quarter turn
+    block.set_pose(data, centre, (root, root, 0.0, 0.0))  # a quarter turn
     mujoco.mj_forward(model, data)
-    block_geoms = set(blocks.props["block_2"].collision_geom_ids)
-    touching = {
-        int(g)
-        for c in data.contact[: data.ncon]
-        if c.dist <= 0.0 and (c.geom[0] in block_geoms or c.geom[1] in block_geoms)
-        for g in c.geom
-        if g not in block_geoms
-    }
-    fingers = set(blocks.robot.gripper_geom_ids_by_side[0]) | set(blocks.robot.gripper_geom_ids_by_side[1])
-    assert pad in touching and other not in touching
-    assert touching <= fingers  # nothing but the gripper touches it
+    mask = blocks.mask("block_2")
+    not_gripper = np.ones(model.ngeom, dtype=bool)
+    not_gripper[blocks.robot.gripper_geom_ids] = False
+    assert blocks.touching(mask, blocks.contacts.geom_set([pad]))
+    assert not blocks.touching(mask, blocks.contacts.geom_set([other]))
+    assert not blocks.touching(mask, not_gripper)  # nothing but the gripper touches it
     assert not watch.held()[watch.names.index("block_2")]
     incident = watch.check()
     assert incident is not None and incident.startswith("block_2 knocked over at t=")
