@@ -129,6 +129,10 @@ class Expert:
     #: once the task has been successful for a whole ``AFTER_SUCCESS`` (see
     #: :func:`bigym.experts.generate.record_attempt`), not that long after the first success
     success_must_last: ClassVar[bool] = False
+    #: the IK also keeps the grippers' roots off the torso (:func:`bigym.experts.ik.self_collision_pairs`):
+    #: for tasks whose hands come close in front of the chest, where a brush of gripper
+    #: on torso parts replays at other rates from the recording
+    grippers_off_torso: ClassVar[bool] = False
 
     def __init__(self, env, seed: int | None = None, style: HumanStyle | None = None, ik_rate: float = 100.0) -> None:
         self.env = env.unwrapped
@@ -138,7 +142,7 @@ class Expert:
         self.style = style if style is not None else HumanStyle()
         self.dt = 1.0 / self.env.control_frequency
         self.ik_every = max(1, round(self.env.control_frequency / ik_rate))
-        self.ik = WholeBodyIK(self.env)
+        self.ik = WholeBodyIK(self.env, grippers_off_torso=self.grippers_off_torso)
         self._action = IkAction(self.env, self.ik)
         self.model, self.data = self.env.model, self.env.data
         self._started = False

@@ -104,9 +104,15 @@ class ArmPlaneLimit(mink.Limit):
         return Constraint(np.array(rows), np.array(bounds))
 
 
-def self_collision_pairs(model: mujoco.MjModel) -> list[tuple[list[int], list[int]]]:
+#: the gripper bodies :func:`self_collision_pairs` keeps off the torso on request: its
+#: body and the linkage at its root, which reach furthest back towards the chest
+GRIPPER_ROOT_BODIES = ("base_mount", "base", "left_driver", "right_driver", "left_coupler", "right_coupler")
+
+
+def self_collision_pairs(model: mujoco.MjModel, grippers: bool = False) -> list[tuple[list[int], list[int]]]:
     """Geom groups the IK keeps apart: each arm (upper arm, forearm) from the torso, and
-    the two arms from each other."""
+    the two arms from each other; with ``grippers`` also each gripper's root
+    (:data:`GRIPPER_ROOT_BODIES`) from the torso."""
 
     def colliders(*bodies: str) -> list[int]:
         ids = {model.body(b).id for b in bodies}
@@ -118,7 +124,10 @@ def self_collision_pairs(model: mujoco.MjModel) -> list[tuple[list[int], list[in
 
     torso = colliders("torso_link")
     arms = [colliders(f"{side}_shoulder_yaw_link", f"{side}_elbow_link") for side in SIDES]
-    return [(arms[0], torso), (arms[1], torso), (arms[0], arms[1])]
+    pairs = [(arms[0], torso), (arms[1], torso), (arms[0], arms[1])]
+    if grippers:
+        pairs += [(colliders(*(f"{side}_gripper/{b}" for b in GRIPPER_ROOT_BODIES)), torso) for side in SIDES]
+    return pairs
 
 
 @functools.lru_cache(maxsize=4)
@@ -139,7 +148,9 @@ def _rotation_to_quat(rotation: np.ndarray) -> np.ndarray:
 class WholeBodyIK:
     """Commanded base + arm configuration driven by hand targets and a base plan."""
 
-    def __init__(self, env, hand_position_cost: float = 10.0, damping: float = 1e-5) -> None:
+    def __init__(
+        self, env, hand_position_cost: float = 10.0, damping: float = 1e-5, grippers_off_torso: bool = False
+    ) -> None:
         robot = env.robot
         if not robot.floating_base:
             raise ValueError("the experts drive the floating base; use JointPositionActionMode(floating_base=True)")
@@ -200,7 +211,7 @@ class WholeBodyIK:
             self.arm_planes,
             mink.CollisionAvoidanceLimit(
                 model,
-                self_collision_pairs(model),
+                self_collision_pairs(model, grippers=grippers_off_torso),
                 minimum_distance_from_collisions=0.02,
                 collision_detection_distance=0.08,
             ),
