@@ -33,8 +33,20 @@ pan stands to the robot's left, the board to its right (the right hand was not t
 ``SandwichFlip`` has no demonstrator: tossed over by rolling the blade half a turn, the
 sandwich turns upside down in about half the episodes at 500 Hz, but how it lands varies
 with the slightest change, so that a replay at 50, 25 or 20 Hz repeats the flip in only
-about one in six (3 of 40 seeds kept); a slow, guided turn (the sandwich stood on its edge
-against the blade and pushed over) did not yet work.
+about one in six (3 of 40 seeds kept). A slow turn about one of its edges is what a replay
+would repeat: set down on its far edge, leaning on the tipped blade, and its raised end
+lifted round that edge by the blade's tip, the sandwich turns over (7 of the 8 seeds of 12
+where the set-down left it leaning), but it comes to rest with its far end up on the pan's
+wall: turning carries its middle about 9 cm past the edge, so the edge must start at least
+5.5 cm short of the pan's middle (the floor is about 19 cm across), and the set-down leaves
+it only 2-5 cm short. ``benchmarks/sandwich_flip_probe.py`` is that prototype, with what it
+measured and what is still needed.
+
+``SandwichToast`` has no demonstrator either: the raw sandwich has square edges, and the
+blade's friction on it (0.8) is larger than the board's (0.3), so a blade pushed at it
+moves it instead of sliding under it; it would need a stop, as the pan's far wall is here,
+and the board has none (tilting the board with the other hand so that it slides onto a
+blade held at its low edge was not tried).
 """
 
 from __future__ import annotations
