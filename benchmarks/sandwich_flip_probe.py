@@ -38,12 +38,13 @@ the middle, and the set-down leaves it 5-7 cm beyond the blade's tip, which cann
 nearer than 10 cm to the near wall. With the spatula alone driven by a stiff spring on
 its free body (no arm), a sandwich started at 50-60 degrees with its edge 5-6 cm short of
 the middle landed flat upside down 16 times in 16 (seeds 2-5, two directions). What is
-still needed: a way to bring the edge further back before the lift (or to draw the turned sandwich down off the wall; pressing the
-blade's tip on it and drawing it down its slope, tried once, did not), and a set-down
-that never lets it slide off. Of 4 seeds recorded and verified with an earlier version
-(tip 8.5 cm back, turned 115 degrees), 1 replayed to success at every rate; the others
-parted at 50 or 25 Hz in the last second, as the sandwich fell over from upright (up to
-then the replays at 50 Hz kept within 5 mm and 6 degrees of the recording).
+still needed: a way to bring the edge further back before the lift (or to draw the
+turned sandwich down off the wall; pressing the blade's tip on it and drawing it down its
+slope, tried once, did not), and a set-down that never lets it slide off. Of 4 seeds
+recorded and verified with an earlier version (tip 8.5 cm back, turned 115 degrees), 1
+replayed to success at every rate; the others parted at 50 or 25 Hz in the last second,
+as the sandwich fell over from upright (up to then the replays at 50 Hz kept within 5 mm
+and 6 degrees of the recording).
 """
 
 from __future__ import annotations
@@ -55,12 +56,12 @@ from typing import ClassVar
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
-import mujoco  # noqa: E402
 import numpy as np  # noqa: E402
 
 from bigym.envs.sandwich import PAN_FLOOR  # noqa: E402
 from bigym.experts.expert import LEFT, SIDE_NAMES, HandReference  # noqa: E402
 from bigym.experts.generate import _env, record_attempt  # noqa: E402
+from bigym.experts.geometry import axis_angle_matrix  # noqa: E402
 from bigym.experts.grasping import HOLD  # noqa: E402
 from bigym.experts.sandwich import (  # noqa: E402
     ATTEMPTS,
@@ -79,14 +80,6 @@ from bigym.robot.h1 import ARM_JOINTS  # noqa: E402
 
 UP = np.array([0.0, 0.0, 1.0])
 EDGE_RADIUS = Sandwich.SIZE[2] / 2  # the rounded collider's edges: half its thickness
-
-
-def rotation_about(axis: np.ndarray, angle: float) -> np.ndarray:
-    quat = np.zeros(4)
-    mujoco.mju_axisAngle2Quat(quat, axis, angle)
-    matrix = np.zeros(9)
-    mujoco.mju_quat2Mat(matrix, quat)
-    return matrix.reshape(3, 3)
 
 
 class FlipProbe(SandwichRemoveExpert):
@@ -198,7 +191,11 @@ class FlipProbe(SandwichRemoveExpert):
         self.note("lift")
         turn = np.deg2rad(s["turn"])
         yield from self.steer_tip(
-            side, along, lambda x: (far + rotation_about(across, x * turn) @ (under_end - far), steep), 2.0, settle=0.0
+            side,
+            along,
+            lambda x: (far + axis_angle_matrix(across, x * turn) @ (under_end - far), steep),
+            2.0,
+            settle=0.0,
         )
         p, r = self.hand_pose(side)
         self.note("away")

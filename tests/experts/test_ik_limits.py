@@ -12,7 +12,7 @@ from bigym.experts import make_expert
 from bigym.experts.expert import LEFT
 from bigym.experts.generate import _env, close_envs
 from bigym.experts.groceries import CUPBOARD, DOOR
-from bigym.experts.ik import ARM_POINTS, GRIPPER_ROOT_BODIES, WholeBodyIK
+from bigym.experts.ik import ARM_POINTS, WholeBodyIK, self_collision_pairs
 
 
 @pytest.fixture(scope="module")
@@ -83,23 +83,12 @@ def test_the_groceries_expert_keeps_its_arms_off_the_open_door_and_forgets_it_ne
 
 
 def _gripper_torso_distance(ik, side: int) -> float:
-    """Least distance (m) between a gripper's root (``GRIPPER_ROOT_BODIES``) and the torso."""
+    """Least distance (m) between a gripper's root (``GRIPPER_ROOT_BODIES``) and the torso,
+    over the geom groups ``self_collision_pairs`` names for them (its last two pairs)."""
     model, data = ik.model, ik.configuration.data
-    names = {f"{('left', 'right')[side]}_gripper/{b}" for b in GRIPPER_ROOT_BODIES}
-
-    def colliders(bodies: set[str]) -> list[int]:
-        return [
-            g
-            for g in range(model.ngeom)
-            if model.body(model.geom_bodyid[g]).name in bodies and (model.geom_contype[g] or model.geom_conaffinity[g])
-        ]
-
+    gripper, torso = self_collision_pairs(model, grippers=True)[-2 + side]
     fromto = np.zeros(6)
-    return min(
-        mujoco.mj_geomDistance(model, data, g, t, 0.5, fromto)
-        for g in colliders(names)
-        for t in colliders({"torso_link"})
-    )
+    return min(mujoco.mj_geomDistance(model, data, g, t, 0.5, fromto) for g in gripper for t in torso)
 
 
 def test_the_ik_keeps_a_gripper_off_the_torso_when_asked(env):
@@ -115,7 +104,9 @@ def test_the_ik_keeps_a_gripper_off_the_torso_when_asked(env):
         base = ik.base()
         posture = np.zeros(len(ik.joint_names))
         for _ in range(300):
-            ik.solve(0.01, [None, ("pinch", goal, np.eye(3), 0.0, 1.0)], base, {k: 50.0 for k in base}, posture, posture)
+            ik.solve(
+                0.01, [None, ("pinch", goal, np.eye(3), 0.0, 1.0)], base, {k: 50.0 for k in base}, posture, posture
+            )
         distances[off_torso] = _gripper_torso_distance(ik, 1)
     assert distances[False] < 0.0, distances  # left to itself, the gripper is in the torso
     assert distances[True] > 0.005, distances
