@@ -40,13 +40,20 @@ where the set-down left it leaning), but it comes to rest with its far end up on
 wall: turning carries its middle about 9 cm past the edge, so the edge must start at least
 5.5 cm short of the pan's middle (the floor is about 19 cm across), and the set-down leaves
 it only 2-5 cm short. ``benchmarks/sandwich_flip_probe.py`` is that prototype, with what it
-measured and what is still needed.
+measured and what is still needed. Turning it about a side edge instead (the blade rolled
+about its length, so that no rim limits where the edge goes down) meets the same geometry
+and one more limit: rolled past about 39 degrees (the blade's friction, 0.8) before its
+edge touches the floor, the sandwich slides down the blade and its edge lands 2-4 cm nearer
+the middle than aimed; rolled less, the blade under the sandwich's middle meets the rim
+before the edge is down (seeds 0-3, both ways: one turned over, onto the wall). Turned in
+over the rim from outside the pan, it slid off the blade into the pan right side up (8 of 8).
 
 ``SandwichToast`` has no demonstrator either: the raw sandwich has square edges, and the
 blade's friction on it (0.8) is larger than the board's (0.3), so a blade pushed at it
-moves it instead of sliding under it; it would need a stop, as the pan's far wall is here,
-and the board has none (tilting the board with the other hand so that it slides onto a
-blade held at its low edge was not tried).
+moves it instead of sliding under it. A stop does not help: held against a 1 cm step (the
+hob's edge), the blade's tip jams at its flush bottom edge and it does not ride up
+(``benchmarks/sandwich_toast_probe.py``). It needs tilting first (the board tipped with
+the other hand so that it slides onto a blade held at the board's low edge; not tried).
 """
 
 from __future__ import annotations
