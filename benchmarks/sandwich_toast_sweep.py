@@ -47,7 +47,7 @@ os.environ.setdefault("MUJOCO_GL", "egl")
 
 import numpy as np
 
-from bigym.experts.cookware import HOB_GRIP, HOB_OPENING, HOB_TILT, TIP_DOWN, CookwareExpert
+from bigym.experts.cookware import HOB_GRIP, HOB_OPENING, HOB_TILT, CookwareExpert
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, HandReference, Script
 from bigym.experts.generate import _env, record_attempt
 from bigym.experts.geometry import axis_angle_matrix
@@ -89,6 +89,8 @@ PAN_STANCE_SIDE = 0.0
 SWEEP_GAP = 0.005
 #: the tip goes down this far (m) behind the sandwich's far edge
 BEHIND = 0.015
+#: how far (m) the tip follows the sandwich sideways as it drifts off the sweep's line
+FOLLOW = 0.04
 #: how fast (m/s) the sandwich is swept
 SWEEP_SPEED = 0.06
 #: the first sweep stops when the sandwich juts this far (m) out over the board's near edge
@@ -106,7 +108,7 @@ PAST_EDGE = 0.05
 #: what height; how far behind the counter's front while holding the pan
 SWEEP_BACK = 0.5
 SWEEP_HEIGHT = 0.92
-PAN_STANCE_BACK = 0.55
+PAN_STANCE_BACK = 0.47
 #: how far (m) the body steps back during the second sweep, the pan held where it is
 SECOND_STEP_BACK = 0.0
 SECOND_POSTURE = False
@@ -122,6 +124,13 @@ STOW_PITCH = np.deg2rad(-10.0)
 STOW_RISE = 0.1
 STOW_BACK = 0.08
 STOW_HEIGHT = 1.06
+#: a sandwich tilted more than this (rad) in the pan is pressed flat: where (m from its raised
+#: edge's side of its middle), how steeply the blade points down (rad) and how deep it goes (m)
+LAID_FLAT = np.deg2rad(7.0)
+PRESS_OUT = 0.035
+PRESS_PITCH = np.deg2rad(70.0)
+PRESS_DEPTH = 0.05
+PRESS_TIME = 1.2
 #: how fast the blade's aim is corrected by what its tip misses (1/s)
 STEER_GAIN = 6.0
 #: how fast a held pan's tilt is corrected (1/s)
@@ -202,9 +211,48 @@ class SandwichToastExpert(SandwichRemoveExpert):
             yield from self.second_sweep(LEFT)
             if self.env.touching(self.env.mask(SANDWICH), self.env.mask(PAN)):
                 break
+        yield from self.lay_flat(LEFT)  # the other hand holding the pan
         yield from self.pan_to_burner(RIGHT)
         while True:
             yield
+
+    def lay_flat(self, side: int) -> Script:
+        """If the sandwich leans on the pan's wall, press its raised side down with the
+        blade's tip until it lies flat, and lift the blade away (twice at most)."""
+        body = self.env.props[SANDWICH].root_body_id
+        for _ in range(2):
+            frame = self.data.xmat[body].reshape(3, 3)
+            up = frame[:, 2] * np.sign(frame[2, 2])
+            if up[2] > np.cos(LAID_FLAT):
+                return
+            self.note("lay flat")
+            down_side = np.array([up[0], up[1], 0.0]) / max(float(np.linalg.norm(up[:2])), 1e-6)
+            press = self.data.xpos[body] + up * Sandwich.SIZE[2] / 2 - down_side * PRESS_OUT
+            base = self.base_pose()
+            heading = float(np.arctan2(press[1] - base[1], press[0] - base[0]))
+            self.measure_hold(side)
+            self.sweep_posture(side)
+            self.aim = np.zeros(3)
+            rot = self.spatula_rotation(np.array([np.cos(heading), np.sin(heading), 0.0]), PRESS_PITCH)
+            p, r = self.hand_for(press + np.array([0.0, 0.0, 0.08]) - rot @ TIP, rot)
+            yield from self.until(self.move_hand(side, p, r, HOLD, precision=0.02, spread=0.3))
+            # onto it, then down through it until it lies flat, and up again from where the tip is
+            start, top = self.tip(), press + np.array([0.0, 0.0, 0.01])
+            yield from self.steer_tip(side, lambda x: start + x * (top - start), 0.6, 0.1, PRESS_PITCH, heading)
+            yield from self.steer_tip(
+                side,
+                lambda x: top - np.array([0.0, 0.0, PRESS_DEPTH * x]),
+                PRESS_TIME,
+                0.3,
+                PRESS_PITCH,
+                heading,
+                until=lambda: self.data.xmat[body][8] ** 2 > np.cos(LAID_FLAT * 0.5) ** 2,
+            )
+            tip = self.tip()
+            yield from self.steer_tip(
+                side, lambda x, tip=tip: tip + x * np.array([0.0, 0.0, 0.1]), 0.6, 0.0, PRESS_PITCH, heading
+            )
+            self.arm_posture[side] = None
 
     # ------------------------------------------------------------------ geometry
     def sandwich_extent(self) -> tuple[float, float]:
@@ -231,10 +279,18 @@ class SandwichToastExpert(SandwichRemoveExpert):
         self.arm_posture[side] = (posture, cost)
 
     def steer_tip(
-        self, side: int, path, duration: float, settle: float = 0.2, pitch: float = SWEEP_PITCH, heading: float = 0.0
+        self,
+        side: int,
+        path,
+        duration: float,
+        settle: float = 0.2,
+        pitch: float = SWEEP_PITCH,
+        heading: float = 0.0,
+        until=None,
     ) -> Script:
-        """The blade's tip along ``path(x)`` for x from 0 to 1 (the blade pointing +x at
-        SWEEP_PITCH), the hand's aim corrected by what the tip misses, as a person watching it."""
+        """The blade's tip along ``path(x)`` for x from 0 to 1 (the blade pointing along
+        ``heading`` at ``pitch``), the hand's aim corrected by what the tip misses, as a
+        person watching it; stopping where it is once ``until()`` holds."""
         rot = self.spatula_rotation(np.array([np.cos(heading), np.sin(heading), 0.0]), pitch)
         t0 = self.time
 
@@ -247,6 +303,8 @@ class SandwichToastExpert(SandwichRemoveExpert):
         r = self.hand_for(np.zeros(3), rot)[1]
         self.hands[side] = HandReference(hand, lambda t: r, HOLD, tremor=0.2)
         while self.time < t0 + duration + settle:
+            if until is not None and until():
+                break
             yield
             self.aim = clamp(self.aim + STEER_GAIN * self.dt * (wanted(self.time) - self.tip()), MAX_AIM)
             if self.held_steer is not None:  # the other hand keeps the pan where it is
@@ -280,10 +338,17 @@ class SandwichToastExpert(SandwichRemoveExpert):
             base = self.base_pose()
             back = np.array([-np.cos(heading), -np.sin(heading), 0.0, 0.0]) * step_back
             self.move_base(base + back, duration=length / SWEEP_SPEED)
+        across = np.array([-np.sin(heading), np.cos(heading), 0.0])
+        sandwich = self.data.xpos[self.env.props[SANDWICH].root_body_id]
+
+        def behind(point: np.ndarray) -> np.ndarray:
+            """The tip kept behind the sandwich's middle as it drifts sideways (watched)."""
+            return point + across * float(np.clip((sandwich - point) @ across, -FOLLOW, FOLLOW))
+
         for a, b in itertools.pairwise(stops):
             duration = float(np.linalg.norm(b - a)) / SWEEP_SPEED * float(np.exp(self.human.jitter(0.08)))
             yield from self.steer_tip(
-                side, lambda x, a=a, b=b: a + x * (b - a), max(duration, 0.4), 0.0, pitch, heading
+                side, lambda x, a=a, b=b: behind(a + x * (b - a)), max(duration, 0.4), 0.0, pitch, heading
             )
         end = self.tip()
         yield from self.steer_tip(side, lambda x: end + x * np.array([0.03, 0.0, 0.1]), 0.6, 0.2, pitch, heading)
@@ -440,9 +505,15 @@ class SandwichToastExpert(SandwichRemoveExpert):
         yield from self.until(self.stow_spatula(LEFT))
         end = yield from self.walk([stance], carrying=[LEFT], speed=PAN_WALK_SPEED, wait=False, from_plan=True)
         yield from self.steer_held(side, body, lambda x: up + x * (over - up), max(end - self.time, 1.2), 0.3, True)
+        # down onto the burner, level (let go of, a pan held by its handle would tip onto its
+        # far edge and the sandwich slide to the wall), then let go
+        down = spot + np.array([0.0, 0.0, 0.004])
+        yield from self.steer_held(side, body, lambda x: over + x * (down - over), 1.2, 0.2, True)
+        sunk = spot - np.array([0.0, 0.0, 0.005])
+        yield from self.steer_held(side, body, lambda x: down + x * (sunk - down), 0.4, 0.1, True)
         self.held_steer = None
-        level = CookwareExpert.flat(self, body)
-        yield from self.place(side, spot, prop=PAN, level=False, orientation=level, tip_down=TIP_DOWN)
+        self.hold_hand(side, HOLD, tremor=0.2)
+        yield from self.release(side, back=0.06, up=0.05)
 
 
 def run(seed: int, verify: bool) -> str:
