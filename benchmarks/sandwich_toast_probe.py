@@ -4,9 +4,9 @@ Run: ``python benchmarks/sandwich_toast_probe.py`` (against a stop) and
 ``python benchmarks/sandwich_toast_probe.py --sweep`` (swept into a pan held below the
 counter's edge).
 
-``SandwichToast`` has no registered expert (see the docstring of
-``bigym/experts/sandwich.py``): on the board, a blade pushed at the raw sandwich (box
-collider, square edges; the blade grips it at 0.8, the board at 0.3) shoves it along. Both
+Why ``SandwichToast``'s expert sweeps (``bigym/experts/sandwich_toast.py``): on the board,
+a blade pushed at the raw sandwich (box collider, square edges; the blade grips it at 0.8,
+the board at 0.3) shoves it along. Both
 probes use nothing but the props: the spatula welded to a mocap "hand" (a soft weld, as an
 arm's grip is), the pan (``--sweep``) welded to another.
 
@@ -31,7 +31,7 @@ tilt, and whether it lies flat in the pan. Measured on 2026-12-06, the defaults 
 rim 5 mm under, 1.5 cm out, on the line): flat in the pan at 6 of 6 headings; also at pitch
 72, at twice the speed, the rim 2 cm under, 3 cm out; leaning on the pan's wall (20-25
 degrees) at 1-2 of 3 headings with the pan 4-5 cm off the line or the blade at 45 degrees.
-``benchmarks/sandwich_toast_sweep.py`` is the robot doing it.
+``bigym/experts/sandwich_toast.py`` is the robot doing it.
 """
 
 from __future__ import annotations

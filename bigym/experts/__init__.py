@@ -82,6 +82,7 @@ EXPERTS: dict[str, str] = {
     "PutCups": "bigym.experts.put_cups:PutCupsExpert",
     "TakeCups": "bigym.experts.take_cups:TakeCupsExpert",
     "SandwichRemove": "bigym.experts.sandwich:SandwichRemoveExpert",
+    "SandwichToast": "bigym.experts.sandwich_toast:SandwichToastExpert",
     "DishwasherUnloadPlatesLong": "bigym.experts.dishwasher_unload_plates_long:PlateCabinetExpert",
     "DishwasherUnloadCupsLong": "bigym.experts.dishwasher_unload_cups_long:MugCabinetExpert",
 }

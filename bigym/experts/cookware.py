@@ -95,7 +95,68 @@ TIP_DOWN = 0.1
 FRONT_BURNERS = ("hob_site_1", "hob_site_2")
 
 
-class CookwareExpert(GraspingExpert, DoorSkills):
+class PotHandles(GraspingExpert):
+    """Taking a pot by its handle and keeping what it holds level: shared by the experts that
+    carry pots (``CookwareExpert``, ``SandwichToastExpert``)."""
+
+    def handle_grip(self, pot: str, along: np.ndarray, out: float = HANDLE_GRIP) -> np.ndarray:
+        """Where the fingers close on a pot's handle: ``out`` metres out from the rim (near
+        the pot, its weight twists the handle less between the fingers); on the handle's
+        axis, which rises as it goes out."""
+        prop = self.env.props[pot]
+        origin = self.data.xpos[prop.root_body_id]
+        site = self.site(pot, "handle")
+        horizontal = np.array([along[0], along[1], 0.0]) / np.linalg.norm(along[:2])
+        out = prop.radius + POT_RIM + out + self.human.jitter(0.01)
+        rise = np.tan(HANDLE_RISE) * float(np.linalg.norm(along[:2]))  # per metre out, with the pot's tilt
+        step = out - float((site - origin) @ horizontal)
+        return site + horizontal * step + np.array([0.0, 0.0, rise * step])
+
+    def take_handle(
+        self,
+        side: int,
+        pot: str,
+        handle: np.ndarray,
+        bar: np.ndarray,
+        approach: np.ndarray,
+        lift: float,
+        tilt: float = HANDLE_TILT,
+        opening: float = 0.0,
+    ) -> Script:
+        """Take a pot's handle (the fingers closing across its flat sides, the hand coming
+        down onto it ``tilt`` rad below the horizontal), trying again if the fingers closed
+        on nothing, and lift it ``lift`` metres. ``opening``: how far the fingers are
+        pre-closed (a handle close above a surface)."""
+        tilt = tilt + self.human.jitter(0.08)
+        if np.cross(bar, approach)[2] > 0.0:  # the tilt turns the approach about the bar: downwards
+            bar = -bar
+        for attempt in range(3):
+            if attempt:  # closed on nothing: open, back off a little, and go in again
+                self.note(f"take the handle again ({attempt})")
+                yield from self.release(side, back=0.04, up=0.0)
+            yield from self.grasp_bar(side, handle, bar, approach, tilt=tilt, depth=0.0, close=False, opening=opening)
+            # the hand may be at the end of its reach: let it get there before closing
+            yield from self.settle(side, handle, SETTLE_DISTANCE, MAX_SETTLE)
+            yield from self.set_grip(side, 1.0)
+            if float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP and self.env.held(pot):
+                break
+        else:
+            self.note(f"gave up on {pot}")
+            while True:  # the demo fails and is not kept
+                yield
+        pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]].copy()
+        rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()
+        self.grasp_pose[side] = to_base(self.commanded_base(), pinch, rotation)
+        lifted = pinch + np.array([0.0, 0.0, lift])
+        yield from self.until(self.move_hand(side, lifted, rotation, HOLD, spread=0.0, tremor=0.3, precision=0.01))
+
+    def flat(self, body: int) -> np.ndarray:
+        """A body's orientation turned level, keeping its heading."""
+        frame = self.data.xmat[body].reshape(3, 3)
+        return yaw_matrix(float(np.arctan2(frame[1, 0], frame[0, 0])))
+
+
+class CookwareExpert(PotHandles, DoorSkills):
     """Moves the pots of ``SaucepanToHob`` and ``StoreKitchenware`` between cabinet and hob."""
 
     tasks = ("SaucepanToHob", "StoreKitchenware")
@@ -172,57 +233,6 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         # the hand has no wrist pitch: it points along the forearm, which comes down from
         # the elbow (under the counter) onto the handle
         yield from self.take_handle(side, pot, handle, bar, approach, SHELF_LIFT)
-
-    def handle_grip(self, pot: str, along: np.ndarray, out: float = HANDLE_GRIP) -> np.ndarray:
-        """Where the fingers close on a pot's handle: ``out`` metres out from the rim (near
-        the pot, its weight twists the handle less between the fingers); on the handle's
-        axis, which rises as it goes out."""
-        prop = self.env.props[pot]
-        origin = self.data.xpos[prop.root_body_id]
-        site = self.site(pot, "handle")
-        horizontal = np.array([along[0], along[1], 0.0]) / np.linalg.norm(along[:2])
-        out = prop.radius + POT_RIM + out + self.human.jitter(0.01)
-        rise = np.tan(HANDLE_RISE) * float(np.linalg.norm(along[:2]))  # per metre out, with the pot's tilt
-        step = out - float((site - origin) @ horizontal)
-        return site + horizontal * step + np.array([0.0, 0.0, rise * step])
-
-    def take_handle(
-        self,
-        side: int,
-        pot: str,
-        handle: np.ndarray,
-        bar: np.ndarray,
-        approach: np.ndarray,
-        lift: float,
-        tilt: float = HANDLE_TILT,
-        opening: float = 0.0,
-    ) -> Script:
-        """Take a pot's handle (the fingers closing across its flat sides, the hand coming
-        down onto it ``tilt`` rad below the horizontal), trying again if the fingers closed
-        on nothing, and lift it ``lift`` metres. ``opening``: how far the fingers are
-        pre-closed (a handle close above a surface)."""
-        tilt = tilt + self.human.jitter(0.08)
-        if np.cross(bar, approach)[2] > 0.0:  # the tilt turns the approach about the bar: downwards
-            bar = -bar
-        for attempt in range(3):
-            if attempt:  # closed on nothing: open, back off a little, and go in again
-                self.note(f"take the handle again ({attempt})")
-                yield from self.release(side, back=0.04, up=0.0)
-            yield from self.grasp_bar(side, handle, bar, approach, tilt=tilt, depth=0.0, close=False, opening=opening)
-            # the hand may be at the end of its reach: let it get there before closing
-            yield from self.settle(side, handle, SETTLE_DISTANCE, MAX_SETTLE)
-            yield from self.set_grip(side, 1.0)
-            if float(self.env.robot.gripper_state(self.data)[side]) < EMPTY_GRIP and self.env.held(pot):
-                break
-        else:
-            self.note(f"gave up on {pot}")
-            while True:  # the demo fails and is not kept
-                yield
-        pinch = self.data.site_xpos[self.env.robot.pinch_site_ids[side]].copy()
-        rotation = self.data.site_xmat[self.env.robot.pinch_site_ids[side]].reshape(3, 3).copy()
-        self.grasp_pose[side] = to_base(self.commanded_base(), pinch, rotation)
-        lifted = pinch + np.array([0.0, 0.0, lift])
-        yield from self.until(self.move_hand(side, lifted, rotation, HOLD, spread=0.0, tremor=0.3, precision=0.01))
 
     def take_from_hob(self, side: int, pot: str) -> Script:
         """Step up to the hob and take the pot by its handle, lifting it off the burner."""
@@ -305,11 +315,6 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         self.note("stand up")
         yield from self.walk([up], carrying=[side])
 
-    def flat(self, body: int) -> np.ndarray:
-        """A body's orientation turned level, keeping its heading."""
-        frame = self.data.xmat[body].reshape(3, 3)
-        return yaw_matrix(float(np.arctan2(frame[1, 0], frame[0, 0])))
-
     def draw_out(self, side: int, pot: str) -> Script:
         """Draw the pot straight out of the cabinet, stepping back, until it is clear of the
         counter's front edge (it rises only then)."""
@@ -339,4 +344,4 @@ class CookwareExpert(GraspingExpert, DoorSkills):
         yield from self.place(side, spot, prop=pot, level=False, orientation=level, tip_down=TIP_DOWN)
 
 
-__all__ = ["CookwareExpert"]
+__all__ = ["CookwareExpert", "PotHandles"]

@@ -70,6 +70,7 @@ DATASET_TASKS = (
     "TakeCups",
     "StoreGroceriesUpper",
     "SandwichRemove",
+    "SandwichToast",
     "DishwasherUnloadPlatesLong",
     "DishwasherUnloadCupsLong",
 )

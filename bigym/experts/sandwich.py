@@ -48,17 +48,9 @@ the middle than aimed; rolled less, the blade under the sandwich's middle meets 
 before the edge is down (seeds 0-3, both ways: one turned over, onto the wall). Turned in
 over the rim from outside the pan, it slid off the blade into the pan right side up (8 of 8).
 
-``SandwichToast`` has no demonstrator either: the raw sandwich has square edges, and the
-blade's friction on it (0.8) is larger than the board's (0.3), so a blade pushed at it
-moves it instead of sliding under it. A stop does not help: held against a 1 cm step (the
-hob's edge), the blade's tip jams at its flush bottom edge and it does not ride up
-(``benchmarks/sandwich_toast_probe.py``). What does work is sweeping it in, as a person
-does with what a spatula will not go under: with the pan held level just below the
-counter's edge, a blade drawn at 60 degrees takes the sandwich off the board and over the
-edge into the pan, flat, at every heading tried (the same probe, ``--sweep``). The robot
-doing it, one hand on the pan and the other sweeping (``benchmarks/sandwich_toast_sweep.py``),
-succeeds in 4 of 20 seeds at 500 Hz and 2 pass the replays at every rate (its docstring
-says why the rest fail and what would fix it): not enough to register yet.
+``SandwichToast``'s demonstrator sweeps the raw sandwich into the pan held at the counter's
+edge instead (``bigym/experts/sandwich_toast.py``): a blade pushed at it shoves it along,
+even against a stop (``benchmarks/sandwich_toast_probe.py``).
 """
 
 from __future__ import annotations
