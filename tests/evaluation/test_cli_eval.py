@@ -66,7 +66,7 @@ def test_eval_with_observations_a_policy_file_and_delta_actions(tmp_path):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["sandwich_toast"], "SandwichToast has no expert yet"),
+        (["sandwich_flip"], "SandwichFlip has no expert yet"),
         (["reach_target_dual", "--policy", "nope"], "give one of expert, random"),
         (["reach_target_dual", "--policy", "bigym.nothing:f"], "cannot import"),
         (["reach_target_dual", "--cameras", "head,tail"], "unknown camera(s) tail"),

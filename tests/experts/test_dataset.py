@@ -104,8 +104,8 @@ def test_generate_command_fills_a_store_and_stats_measures_it(tmp_path):
 
 
 def test_generate_and_stats_fail_clearly(tmp_path):
-    result = run("generate", "SandwichToast", "-n", 1, "--store", tmp_path / "s")
-    assert result.exit_code == 1 and "no expert for SandwichToast" in result.output
+    result = run("generate", "SandwichFlip", "-n", 1, "--store", tmp_path / "s")
+    assert result.exit_code == 1 and "no expert for SandwichFlip" in result.output
     result = run("generate", "NoSuchTask", "--store", tmp_path / "s")
     assert result.exit_code == 1 and "unknown task" in result.output
     # an expert, but no shipped demos to build (StoreBox has none in v1)
