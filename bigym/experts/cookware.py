@@ -99,6 +99,29 @@ class PotHandles(GraspingExpert):
     """Taking a pot by its handle and keeping what it holds level: shared by the experts that
     carry pots (``CookwareExpert``, ``SandwichToastExpert``)."""
 
+    def hob_handle(self, pot: str, side: int, front: float) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """How to take a pot standing on the hob by its handle with hand ``side``: where the
+        fingers close, the handle's direction, the hand's approach (across the handle, away
+        from the robot), and where the pelvis stands for it (x, y, height, yaw): about
+        ``HOB_REACH`` behind the handle but no nearer the counter than ``front`` (x), beside
+        it on the hand's side."""
+        frame = self.data.xmat[self.env.props[pot].root_body_id].reshape(3, 3)
+        along = frame[:, 0].copy()  # the handle points along the pot's +x
+        handle = self.handle_grip(pot, along, HOB_GRIP)
+        approach = np.cross([0.0, 0.0, 1.0], along)
+        approach[2] = 0.0
+        approach *= np.sign(approach[0]) / np.linalg.norm(approach)  # away from the robot
+        lateral = 0.2 if side == LEFT else -0.2
+        stance = np.array(
+            [
+                min(front, handle[0] - HOB_REACH) - abs(self.human.jitter(0.02)),
+                handle[1] - lateral + self.human.jitter(0.03),
+                HOB_STANCE_HEIGHT + self.human.jitter(0.02),
+                self.human.jitter(0.05),
+            ]
+        )
+        return handle, along, approach, stance
+
     def handle_grip(self, pot: str, along: np.ndarray, out: float = HANDLE_GRIP) -> np.ndarray:
         """Where the fingers close on a pot's handle: ``out`` metres out from the rim (near
         the pot, its weight twists the handle less between the fingers); on the handle's
@@ -236,22 +259,7 @@ class CookwareExpert(PotHandles, DoorSkills):
 
     def take_from_hob(self, side: int, pot: str) -> Script:
         """Step up to the hob and take the pot by its handle, lifting it off the burner."""
-        prop = self.env.props[pot]
-        frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
-        along = frame[:, 0].copy()  # the handle points along the pot's +x
-        handle = self.handle_grip(pot, along, HOB_GRIP)
-        approach = np.cross([0.0, 0.0, 1.0], along)
-        approach[2] = 0.0
-        approach *= np.sign(approach[0]) / np.linalg.norm(approach)  # away from the robot
-        lateral = 0.2 if side == LEFT else -0.2
-        stance = np.array(
-            [
-                min(CABINET_FRONT - FRONT_CLEARANCE, handle[0] - HOB_REACH) - abs(self.human.jitter(0.02)),
-                handle[1] - lateral + self.human.jitter(0.03),
-                HOB_STANCE_HEIGHT + self.human.jitter(0.02),
-                self.human.jitter(0.05),
-            ]
-        )
+        handle, along, approach, stance = self.hob_handle(pot, side, CABINET_FRONT - FRONT_CLEARANCE)
         self.note(f"to the hob for {pot}")
         yield from self.until(self.move_base(stance))
         lift = HOB_LIFT + abs(self.human.jitter(0.01))

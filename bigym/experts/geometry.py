@@ -63,6 +63,12 @@ def yaw_matrix(yaw: float) -> np.ndarray:
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
+def clamp(vector: np.ndarray, most: float) -> np.ndarray:
+    """``vector`` shortened to at most ``most`` long (a correction that must stay bounded)."""
+    length = float(np.linalg.norm(vector))
+    return vector if length <= most else vector * (most / length)
+
+
 class JointMotion:
     """Where a body attached to one slide or hinge joint goes as that joint moves.
 
@@ -106,6 +112,7 @@ class JointMotion:
 __all__ = [
     "JointMotion",
     "axis_angle_matrix",
+    "clamp",
     "frame_from_axes",
     "interpolate_rotation",
     "rotation_log",

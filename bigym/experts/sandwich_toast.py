@@ -36,9 +36,9 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.cookware import HOB_GRIP, HOB_OPENING, HOB_TILT, PotHandles
+from bigym.experts.cookware import FRONT_CLEARANCE, HOB_OPENING, HOB_TILT, PotHandles
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, HandReference, Script
-from bigym.experts.geometry import axis_angle_matrix
+from bigym.experts.geometry import axis_angle_matrix, clamp
 from bigym.experts.grasping import HOLD
 from bigym.experts.sandwich import (
     ATTEMPTS,
@@ -123,12 +123,6 @@ MAX_HELD_AIM = 0.04
 #: the pan's handle turned to point this way (rad) while it is held at the counter: back
 #: and to the right, the hand away from the counter
 PAN_HANDLE_HEADING = np.deg2rad(-120.0)
-
-
-def clamp(vector: np.ndarray, most: float) -> np.ndarray:
-    """``vector`` shortened to at most ``most`` long."""
-    length = float(np.linalg.norm(vector))
-    return vector if length <= most else vector * (most / length)
 
 
 class HeldSteer:
@@ -375,26 +369,18 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
     def take_pan(self, side: int) -> Script:
         """Step back to the hob and take the pan by its handle, lifting it off the burner."""
         self.note("take pan")
-        prop = self.env.props[PAN]
-        frame = self.data.xmat[prop.root_body_id].reshape(3, 3)
-        along = frame[:, 0].copy()  # the handle points along the pan's +x
-        handle = self.handle_grip(PAN, along, HOB_GRIP)
-        approach = np.cross([0.0, 0.0, 1.0], along)
-        approach[2] = 0.0
-        approach *= np.sign(approach[0]) / np.linalg.norm(approach)  # away from the robot
-        stance = np.array(
-            [
-                min(COUNTER_FRONT - 0.14, handle[0] - 0.4) - abs(self.human.jitter(0.02)),
-                handle[1] + 0.2 + self.human.jitter(0.03),
-                0.88 + self.human.jitter(0.02),
-                self.human.jitter(0.05),
-            ]
-        )
-        p, r = self.hand_pose(LEFT)  # the spatula raised a little out of the way
-        self.move_hand(LEFT, p + np.array([-0.05, 0.0, 0.1]), r, HOLD, duration=0.5, spread=0.0)
+        handle, along, approach, stance = self.hob_handle(PAN, side, COUNTER_FRONT - FRONT_CLEARANCE)
+        self.lift_spatula(LEFT)
         yield from self.wait(0.3)
         yield from self.walk([stance], carrying=[LEFT])
         yield from self.take_handle(side, PAN, handle, along, approach, CARRY_LIFT, tilt=HOB_TILT, opening=HOB_OPENING)
+
+    def lift_spatula(self, side: int) -> None:
+        """Raise the spatula a little out of the other hand's way, as it is held (not turned
+        level as :meth:`stow_spatula` does for a walk: stowed level here, the other hand's
+        grasp of the pan's handle failed)."""
+        p, r = self.hand_pose(side)
+        self.move_hand(side, p + np.array([-0.05, 0.0, 0.1]), r, HOLD, duration=0.5, spread=0.0)
 
     def steer_held(
         self,
