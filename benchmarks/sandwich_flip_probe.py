@@ -2,9 +2,10 @@
 
 Run: ``python benchmarks/sandwich_flip_probe.py [--seeds 0-11] [--verify]``.
 
-``SandwichFlip`` has no expert yet (see the docstring of ``bigym/experts/sandwich.py``).
-This is the prototype that came closest, kept so that the next try starts from it rather
-than from scratch; it is not registered and its demos are not in the dataset. It takes
+The prototype ``SandwichFlip``'s demonstrator (``bigym/experts/sandwich_flip.py``) grew
+from, kept with what it measured: the expert turns the sandwich the same way, more slowly
+and with the blade tipped less to set it down, and settles the sandwich that comes to rest
+on the pan's wall by tilting the pan with the other hand. It takes
 the spatula and scoops the sandwich up exactly as ``SandwichRemoveExpert`` does, then:
 
 1. carries it, level, back over the pan until the blade's tip is ``--tip-back`` m short

@@ -83,6 +83,7 @@ EXPERTS: dict[str, str] = {
     "TakeCups": "bigym.experts.take_cups:TakeCupsExpert",
     "SandwichRemove": "bigym.experts.sandwich:SandwichRemoveExpert",
     "SandwichToast": "bigym.experts.sandwich_toast:SandwichToastExpert",
+    "SandwichFlip": "bigym.experts.sandwich_flip:SandwichFlipExpert",
     "DishwasherUnloadPlatesLong": "bigym.experts.dishwasher_unload_plates_long:PlateCabinetExpert",
     "DishwasherUnloadCupsLong": "bigym.experts.dishwasher_unload_cups_long:MugCabinetExpert",
 }

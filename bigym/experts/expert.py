@@ -129,6 +129,11 @@ class Expert:
     #: once the task has been successful for a whole ``AFTER_SUCCESS`` (see
     #: :func:`bigym.experts.generate.record_attempt`), not that long after the first success
     success_must_last: ClassVar[bool] = False
+    #: the task can be met on the way, in a state a replay at another rate may just miss
+    #: (a turned sandwich that comes to rest almost flat, which the demonstrator then settles
+    #: anyway): a recording of this expert ends only once its plan has returned
+    #: (:attr:`finished`) and the task has then been successful for a whole ``AFTER_SUCCESS``
+    success_after_plan: ClassVar[bool] = False
     #: the IK also keeps the grippers' roots off the torso (:func:`bigym.experts.ik.self_collision_pairs`):
     #: for tasks whose hands come close in front of the chest, where a brush of gripper
     #: on torso parts replays at other rates from the recording

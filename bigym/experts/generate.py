@@ -173,7 +173,8 @@ def record_attempt(
     The recording ends ``AFTER_SUCCESS`` s after the first success; for an expert whose
     ``success_must_last``, once the task has been successful for the step that succeeds and
     ``AFTER_SUCCESS`` s after it without a break (the same end when the first success holds;
-    "success did not last" when no such stretch begins within the time limit).
+    "success did not last" when no such stretch begins within the time limit); for an
+    expert whose ``success_after_plan``, such a stretch after its plan has returned.
 
     ``reject_incidents``: reject the attempt at the first mishap the incident watch names
     (an object dropped, knocked over or pushed into a surface; see
@@ -213,10 +214,11 @@ def record_attempt(
             recorder.discard()
             return Attempt(index, seed, False, f"rejected: {incident}", None, duration, dict(expert.choices))
         if recorder.first_success_step is not None:
-            if expert.success_must_last:
+            if expert.success_must_last or expert.success_after_plan:
                 # the step that succeeds and a whole margin after it: a success that holds
                 # from the first gives the same recording as the plain rule
-                lasted = lasted + 1 if info.get("is_success", False) else 0
+                counts = info.get("is_success", False) and (expert.finished or not expert.success_after_plan)
+                lasted = lasted + 1 if counts else 0
                 if lasted > margin:
                     break
                 continue
@@ -232,7 +234,7 @@ def record_attempt(
         reason = failure_reason(env, info)
         recorder.discard()
         return Attempt(index, seed, False, reason, None, duration, choices)
-    if expert.success_must_last and lasted <= margin:
+    if (expert.success_must_last or expert.success_after_plan) and lasted <= margin:
         recorder.discard()
         return Attempt(index, seed, False, "success did not last", None, duration, choices)
     demo = recorder.to_demo(

@@ -30,23 +30,17 @@ body stands, how steeply the blade is tipped over the board, where over the boar
 sandwich is brought, the timing, and every path's via-points. Always the left hand: the
 pan stands to the robot's left, the board to its right (the right hand was not tried).
 
-``SandwichFlip`` has no demonstrator: tossed over by rolling the blade half a turn, the
-sandwich turns upside down in about half the episodes at 500 Hz, but how it lands varies
-with the slightest change, so that a replay at 50, 25 or 20 Hz repeats the flip in only
-about one in six (3 of 40 seeds kept). A slow turn about one of its edges is what a replay
-would repeat: set down on its far edge, leaning on the tipped blade, and its raised end
-lifted round that edge by the blade's tip, the sandwich turns over (7 of the 8 seeds of 12
-where the set-down left it leaning), but it comes to rest with its far end up on the pan's
-wall: turning carries its middle about 9 cm past the edge, so the edge must start at least
-5.5 cm short of the pan's middle (the floor is about 19 cm across), and the set-down leaves
-it only 2-5 cm short. ``benchmarks/sandwich_flip_probe.py`` is that prototype, with what it
-measured and what is still needed. Turning it about a side edge instead (the blade rolled
-about its length, so that no rim limits where the edge goes down) meets the same geometry
-and one more limit: rolled past about 39 degrees (the blade's friction, 0.8) before its
-edge touches the floor, the sandwich slides down the blade and its edge lands 2-4 cm nearer
-the middle than aimed; rolled less, the blade under the sandwich's middle meets the rim
-before the edge is down (seeds 0-3, both ways: one turned over, onto the wall). Turned in
-over the rim from outside the pan, it slid off the blade into the pan right side up (8 of 8).
+``SandwichFlip``'s demonstrator (``bigym/experts/sandwich_flip.py``) turns the sandwich
+over slowly about one of its edges and settles it by tilting the pan. Tossed over by
+rolling the blade half a turn instead, the sandwich turned upside down in about half the
+episodes at 500 Hz, but how it landed varied with the slightest change, so that a replay
+at 50, 25 or 20 Hz repeated the flip in only about one in six (3 of 40 seeds kept). Turned
+about a side edge (the blade rolled about its length, so that no rim limits where the edge
+goes down), it slid down the blade once that was rolled past about 39 degrees (the blade's
+friction, 0.8) before its edge touched the floor, landing 2-4 cm nearer the middle than
+aimed; rolled less, the blade under its middle met the rim before the edge was down (seeds
+0-3, both ways: one turned over, onto the wall). Turned in over the rim from outside the
+pan, it slid off the blade into the pan right side up (8 of 8).
 
 ``SandwichToast``'s demonstrator sweeps the raw sandwich into the pan held at the counter's
 edge instead (``bigym/experts/sandwich_toast.py``): a blade pushed at it shoves it along,

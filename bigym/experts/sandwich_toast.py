@@ -127,9 +127,10 @@ PAN_HANDLE_HEADING = np.deg2rad(-120.0)
 
 class HeldSteer:
     """Keeps a held body on a path, as a person watching it does: the hand's aim is
-    corrected by what the body misses, and (``level``) the hand turns by how far the body
-    is tilted, (``heading``) and about the vertical until the body's x axis points that
-    way. Call :meth:`update` once per control step."""
+    corrected by what the body misses, and (``level``) the hand turns by how far the body's
+    z axis is off :attr:`up` (world up: held level; tipped: held tilted that way),
+    (``heading``) and about the vertical until the body's x axis points that way. Call
+    :meth:`update` once per control step."""
 
     def __init__(self, expert: SandwichToastExpert, side: int, body: int) -> None:
         self.expert, self.body = expert, body
@@ -138,6 +139,8 @@ class HeldSteer:
         self.aim = np.zeros(3)
         self.turn = np.eye(3)
         self.level = False
+        #: with ``level``: where the body's z axis is turned to (world up: held level)
+        self.up = np.array([0.0, 0.0, 1.0])
         self.heading: float | None = None
         here = expert.data.xpos[body].copy()
         self.path = lambda t: here
@@ -154,7 +157,7 @@ class HeldSteer:
             error = float(np.angle(np.exp(1j * (self.heading - np.arctan2(frame[1, 0], frame[0, 0])))))
             self.turn = axis_angle_matrix(np.array([0.0, 0.0, 1.0]), HEADING_GAIN * e.dt * error) @ self.turn
         if self.level:
-            axis = np.cross(frame[:, 2], [0.0, 0.0, 1.0])
+            axis = np.cross(frame[:, 2], self.up)
             angle = float(np.arcsin(min(1.0, np.linalg.norm(axis))))
             if angle > 1e-4:
                 self.turn = axis_angle_matrix(axis, LEVEL_GAIN * e.dt * angle) @ self.turn
@@ -469,10 +472,14 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
         yield from self.until(self.stow_spatula(LEFT))
         end = yield from self.walk([stance], carrying=[LEFT], speed=PAN_WALK_SPEED, wait=False, from_plan=True)
         yield from self.steer_held(side, body, lambda x: up + x * (over - up), max(end - self.time, 1.2), 0.3, True)
-        # down onto the burner, level (let go of, a pan held by its handle would tip onto its
-        # far edge and the sandwich slide to the wall), then let go
+        yield from self.set_pan_down(side, body, over, spot)
+
+    def set_pan_down(self, side: int, body: int, start: np.ndarray, spot: np.ndarray) -> Script:
+        """From ``start`` down onto the burner at ``spot``, level, and let go (let go of
+        above it, a pan held by its handle would tip onto its far edge and the sandwich
+        slide to the wall)."""
         down = spot + np.array([0.0, 0.0, 0.004])
-        yield from self.steer_held(side, body, lambda x: over + x * (down - over), 1.2, 0.2, True)
+        yield from self.steer_held(side, body, lambda x: start + x * (down - start), 1.2, 0.2, True)
         sunk = spot - np.array([0.0, 0.0, 0.005])
         yield from self.steer_held(side, body, lambda x: down + x * (sunk - down), 0.4, 0.1, True)
         self.held_steer = None

@@ -66,7 +66,6 @@ def test_eval_with_observations_a_policy_file_and_delta_actions(tmp_path):
 @pytest.mark.parametrize(
     "args, message",
     [
-        (["sandwich_flip"], "SandwichFlip has no expert yet"),
         (["reach_target_dual", "--policy", "nope"], "give one of expert, random"),
         (["reach_target_dual", "--policy", "bigym.nothing:f"], "cannot import"),
         (["reach_target_dual", "--cameras", "head,tail"], "unknown camera(s) tail"),
@@ -80,3 +79,12 @@ def test_eval_errors_are_readable(args, message):
     result = run(*args)
     assert result.exit_code == 1
     assert message in result.output, result.output
+
+
+def test_eval_of_a_task_without_an_expert_says_so(monkeypatch):
+    from bigym.experts import EXPERTS
+
+    monkeypatch.delitem(EXPERTS, "SandwichFlip")  # every task has one now: as if this had none
+    result = run("sandwich_flip")
+    assert result.exit_code == 1
+    assert "SandwichFlip has no expert yet" in result.output, result.output

@@ -103,7 +103,10 @@ def test_generate_command_fills_a_store_and_stats_measures_it(tmp_path):
     assert payload["demos"]["hand_split"]["both"] == 1.0  # the dual task uses both hands
 
 
-def test_generate_and_stats_fail_clearly(tmp_path):
+def test_generate_and_stats_fail_clearly(tmp_path, monkeypatch):
+    from bigym.experts import EXPERTS
+
+    monkeypatch.delitem(EXPERTS, "SandwichFlip")  # every task has one now: as if this had none
     result = run("generate", "SandwichFlip", "-n", 1, "--store", tmp_path / "s")
     assert result.exit_code == 1 and "no expert for SandwichFlip" in result.output
     result = run("generate", "NoSuchTask", "--store", tmp_path / "s")

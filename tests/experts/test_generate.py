@@ -1,5 +1,6 @@
 """Where a recorded expert demo ends: a whole AFTER_SUCCESS after the first success, or,
-for an expert whose success can flicker (``success_must_last``), after a success that held."""
+for an expert whose success can flicker (``success_must_last``), after a success that held,
+or, for one that may succeed on the way (``success_after_plan``), after its plan ended."""
 
 import numpy as np
 
@@ -60,6 +61,28 @@ def test_a_momentary_success_ends_the_plain_recording_but_not_one_that_must_last
     assert len(lasting) > len(plain)
     assert lasting[-(MARGIN + 1) :].all()  # it ends after a whole margin of success
     assert not lasting[-(MARGIN + 2)]  # and no later than that
+
+
+class ReachThenWait(ReachExpert):
+    """Reaches the target, holds it for two seconds, and ends its plan."""
+
+    success_after_plan = True
+
+    def plan(self):
+        target = self.env.target_positions[0].copy()
+        yield from self.until(self.move_hand(LEFT, target, frame="wrist", duration=1.0))
+        yield from self.wait(2.0)
+
+
+def test_a_success_on_the_way_does_not_end_the_recording_before_the_plan_has():
+    plain = recorded_success(type("PlainReachThenWait", (ReachThenWait,), {"success_after_plan": False}))
+    after_plan = recorded_success(ReachThenWait)
+    first = int(np.argmax(plain))
+    assert len(plain) == first + 1 + MARGIN
+    assert int(np.argmax(after_plan)) == first  # the same success on the way
+    # the plan ends two seconds after the reach: the recording a whole margin later
+    assert len(after_plan) > len(plain) + 0.8 * MARGIN
+    assert after_plan[-(MARGIN + 1) :].all()
 
 
 def test_a_success_that_never_lasts_is_not_a_demo():
