@@ -39,6 +39,9 @@ the floor and lies flat, right side up, after which the lift wrenches the spatul
 the hand (100) or the person gives up (most of 48 time limits); replays that part from the
 recording, mostly as the sandwich slides down the tipped blade, which it starts to do only
 just past its friction angle, about 39 degrees (35); scoops that drop it over the rim (12).
+The far edge is on the floor from about 21 degrees: stopping the tip at that first contact
+left the sandwich too flat to turn (seeds 20-59: 6 kept at 48 degrees, 4 at 42, against 11
+without stopping); tipped only to 35 degrees, it wrenched the spatula more often (5 kept).
 
 Choices drawn per demo: those of the scoop (see ``sandwich.py``), how far back the blade
 is set down, how steeply, how far it turns the sandwich, how far the pan is tilted, the
