@@ -140,11 +140,6 @@ class SandwichFlipExpert(SandwichToastExpert):
         reach = Sandwich.SIZE[axis] / 2 - EDGE_RADIUS
         return centre + slope * reach, centre - slope * reach
 
-    def sandwich_tilt(self) -> float:
-        """How far (rad) the sandwich is from lying flat, either side up."""
-        frame = self.data.xmat[self.env.props[SANDWICH].root_body_id].reshape(3, 3)
-        return float(np.arccos(min(1.0, abs(frame[2, 2]))))
-
     def upside_down(self) -> bool:
         return bool(self.data.xmat[self.env.props[SANDWICH].root_body_id][8] < 0.0)
 
