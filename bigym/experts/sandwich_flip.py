@@ -68,7 +68,7 @@ from bigym.experts.sandwich import (
     SPATULA,
     TIP,
 )
-from bigym.experts.sandwich_toast import BURNER, COUNTER_FRONT, HOB, STEER_GAIN, SandwichToastExpert
+from bigym.experts.spatula_and_pan import BURNER, COUNTER_FRONT, HOB, STEER_GAIN, SpatulaAndPan
 from bigym.props import Sandwich
 
 UP = np.array([0.0, 0.0, 1.0])
@@ -96,9 +96,9 @@ PAN_LIFT = 0.03
 PAN_TILT = np.deg2rad(30.0)
 
 
-class SandwichFlipExpert(SandwichToastExpert):
+class SandwichFlipExpert(SpatulaAndPan):
     """Turns the sandwich of ``SandwichFlip`` over with the spatula and settles it flat by
-    tilting the pan (the pan-holding and spatula skills of the toast demonstrator)."""
+    tilting the pan (:class:`~bigym.experts.spatula_and_pan.SpatulaAndPan`)."""
 
     tasks = ("SandwichFlip",)
     #: the spatula swings down with the hand as the blade is tipped; the pan is held

@@ -21,8 +21,9 @@ by a steep blade it drops flat into a pan held level just below the edge
 (``benchmarks/sandwich_toast_probe.py`` and its ``--sweep``). Why the pan is watched: held by
 its handle, it turns in the fingers (about the axis they close along when the body moves,
 and tips onto its far edge when let go of mid-air), so the hand's aim is corrected by how
-far the pan is off its path and tilted (:class:`HeldSteer`), as a person keeps a pan level
-by looking at it; walking with it is slow.
+far the pan is off its path and tilted (``HeldSteer`` in ``spatula_and_pan.py``, shared with
+``SandwichFlip``'s demonstrator), as a person keeps a pan level by looking at it; walking
+with it is slow.
 
 Choices drawn per demo: the timing, the stances, the sweep's line and every path's via
 points. Always the left hand for the spatula and the right for the pan: the pan's handle
@@ -36,31 +37,21 @@ from typing import ClassVar
 
 import numpy as np
 
-from bigym.experts.cookware import FRONT_CLEARANCE, HOB_OPENING, HOB_TILT, PotHandles
+from bigym.experts.cookware import FRONT_CLEARANCE, HOB_OPENING, HOB_TILT
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, HandReference, Script
-from bigym.experts.geometry import axis_angle_matrix, clamp
+from bigym.experts.geometry import clamp
 from bigym.experts.grasping import HOLD
-from bigym.experts.sandwich import (
-    ATTEMPTS,
-    BOARD,
-    GRIP_WRIST,
-    GRIP_WRIST_COST,
-    OVER_BLADE,
-    PAN,
-    PUSH_ARM,
-    PUSH_ARM_COST,
-    SANDWICH,
-    TIP,
-    SandwichRemoveExpert,
+from bigym.experts.sandwich import ATTEMPTS, BOARD, PAN, SANDWICH, TIP
+from bigym.experts.spatula_and_pan import (
+    BURNER,
+    COUNTER_FRONT,
+    COUNTER_TOP,
+    HOB,
+    STEER_GAIN,
+    SpatulaAndPan,
 )
 from bigym.props import Sandwich
-from bigym.robot.h1 import ARM_JOINTS
 
-HOB = "cabinet_1"
-BURNER = "hob_site_1"
-#: the counter's front edge (x) and top (z)
-COUNTER_FRONT = 0.48
-COUNTER_TOP = 0.86
 #: the board's half length along x
 BOARD_HALF = 0.145
 #: how steeply (rad below the horizontal) the blade is held while sweeping, and how far (m)
@@ -98,12 +89,9 @@ PAN_CARRY_HEIGHT = 0.98
 #: walking with the pan, slowly: it turns in the fingers about their closing axis when the
 #: hand is jerked sideways
 PAN_WALK_SPEED = 0.5
-#: the spatula carried about level (the tip a little up): its blade's middle raised this far
-#: (m), to at least this high, and drawn back this far
-STOW_PITCH = np.deg2rad(-10.0)
-STOW_RISE = 0.1
-STOW_BACK = 0.08
-STOW_HEIGHT = 1.06
+#: the most (m) the blade's aim is corrected: a blade's tip held up by what it pushes must
+#: not drive the hand on down
+MAX_AIM = 0.04
 #: a sandwich tilted more than this (rad) in the pan is pressed flat: where (m from its raised
 #: edge's side of its middle), how steeply the blade points down (rad) and how deep it goes (m)
 LAID_FLAT = np.deg2rad(7.0)
@@ -111,59 +99,12 @@ PRESS_OUT = 0.035
 PRESS_PITCH = np.deg2rad(70.0)
 PRESS_DEPTH = 0.05
 PRESS_TIME = 1.2
-#: how fast the blade's aim is corrected by what its tip misses (1/s)
-STEER_GAIN = 6.0
-#: how fast a held pan's tilt is corrected (1/s)
-LEVEL_GAIN = 3.0
-HEADING_GAIN = 1.5
-#: the most (m) a hand's aim is corrected: a blade's tip held up by what it pushes must not
-#: drive the hand on down
-MAX_AIM = 0.04
-MAX_HELD_AIM = 0.04
 #: the pan's handle turned to point this way (rad) while it is held at the counter: back
 #: and to the right, the hand away from the counter
 PAN_HANDLE_HEADING = np.deg2rad(-120.0)
 
 
-class HeldSteer:
-    """Keeps a held body on a path, as a person watching it does: the hand's aim is
-    corrected by what the body misses, and (``level``) the hand turns by how far the body's
-    z axis is off :attr:`up` (world up: held level; tipped: held tilted that way),
-    (``heading``) and about the vertical until the body's x axis points that way. Call
-    :meth:`update` once per control step."""
-
-    def __init__(self, expert: SandwichToastExpert, side: int, body: int) -> None:
-        self.expert, self.body = expert, body
-        self.offset = expert.held_offset(side, body)
-        _, self.r0 = expert.hand_pose(side)
-        self.aim = np.zeros(3)
-        self.turn = np.eye(3)
-        self.level = False
-        #: with ``level``: where the body's z axis is turned to (world up: held level)
-        self.up = np.array([0.0, 0.0, 1.0])
-        self.heading: float | None = None
-        here = expert.data.xpos[body].copy()
-        self.path = lambda t: here
-        expert.hands[side] = HandReference(
-            lambda t: self.path(t) + self.turn @ self.offset + self.aim, lambda t: self.turn @ self.r0, HOLD, tremor=0.2
-        )
-
-    def update(self) -> None:
-        e = self.expert
-        frame = e.data.xmat[self.body].reshape(3, 3)
-        miss = self.path(e.time) - e.data.xpos[self.body]
-        self.aim = clamp(self.aim + STEER_GAIN * e.dt * miss, MAX_HELD_AIM)
-        if self.heading is not None:
-            error = float(np.angle(np.exp(1j * (self.heading - np.arctan2(frame[1, 0], frame[0, 0])))))
-            self.turn = axis_angle_matrix(np.array([0.0, 0.0, 1.0]), HEADING_GAIN * e.dt * error) @ self.turn
-        if self.level:
-            axis = np.cross(frame[:, 2], self.up)
-            angle = float(np.arcsin(min(1.0, np.linalg.norm(axis))))
-            if angle > 1e-4:
-                self.turn = axis_angle_matrix(axis, LEVEL_GAIN * e.dt * angle) @ self.turn
-
-
-class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
+class SandwichToastExpert(SpatulaAndPan):
     """Sweeps the raw sandwich of ``SandwichToast`` from the board into the pan, held at the
     counter's edge, and puts the pan back on the hob."""
 
@@ -174,7 +115,7 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
     may_tip: ClassVar[tuple[str, ...]] = (SANDWICH,)
 
     def plan(self) -> Script:
-        self.held_steer: HeldSteer | None = None
+        self.held_steer = None
         self.choices["hands"] = {"spatula": SIDE_NAMES[LEFT], "pan": SIDE_NAMES[RIGHT]}
         yield from self.wait(self.human.reaction())
         self.hand_to_hip(RIGHT)
@@ -247,15 +188,6 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
         """How far the sandwich reaches from its middle along horizontal ``u``."""
         frame = self.data.xmat[self.env.props[SANDWICH].root_body_id].reshape(3, 3)
         return float(np.abs(frame.T @ u) @ (0.5 * np.array(Sandwich.SIZE)))
-
-    def tip(self) -> np.ndarray:
-        pos, rot = self.spatula_frame()
-        return pos + rot @ TIP
-
-    def sweep_posture(self, side: int) -> None:
-        posture = np.array([*(PUSH_ARM[j] for j in ARM_JOINTS[:-1]), GRIP_WRIST])
-        cost = np.array([PUSH_ARM_COST] * (len(ARM_JOINTS) - 1) + [GRIP_WRIST_COST])
-        self.arm_posture[side] = (posture, cost)
 
     def steer_tip(
         self,
@@ -385,31 +317,6 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
         p, r = self.hand_pose(side)
         self.move_hand(side, p + np.array([-0.05, 0.0, 0.1]), r, HOLD, duration=0.5, spread=0.0)
 
-    def steer_held(
-        self,
-        side: int,
-        body: int,
-        path,
-        duration: float,
-        settle: float = 0.3,
-        level: bool = False,
-        heading: float | None = None,
-    ) -> Script:
-        """Move the held body's origin along ``path(x)`` (x from 0 to 1) as a :class:`HeldSteer`
-        does, which then goes on holding it at the path's end."""
-        steer = self.held_steer if self.held_steer is not None else HeldSteer(self, side, body)
-        self.held_steer = steer
-        steer.level, steer.heading = level, heading
-        t0 = self.time
-
-        def progress(t: float) -> float:
-            return self.human.profile(min(max((t - t0) / duration, 0.0), 1.0))
-
-        steer.path = lambda t: path(progress(t))
-        while self.time < t0 + duration + settle:
-            yield
-            steer.update()
-
     def hold_pan_at_counter(self, side: int) -> Script:
         """Carry the pan out over the counter's front edge in front of the sandwich, then
         down until its rim is just below the counter's top, and hold it there."""
@@ -433,17 +340,6 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
             side, body, lambda x: start + x * (high - start), max(end - self.time, 1.0), 0.6, True, heading
         )
         yield from self.steer_held(side, body, lambda x: high + x * (goal - high), 1.2, 0.5, True, heading)
-
-    def stow_spatula(self, side: int) -> float:
-        """Raise the spatula, turned level (its tip a little up), to be carried about clear
-        over the counter; returns when it is there."""
-        pos, rot = self.spatula_frame()
-        along = np.array([rot[0, 1], rot[1, 1], 0.0])
-        level = self.spatula_rotation(along, STOW_PITCH)
-        blade = pos + rot @ OVER_BLADE
-        spot = np.array([blade[0], blade[1], max(float(blade[2]) + STOW_RISE, STOW_HEIGHT)]) - along * STOW_BACK
-        p, r = self.hand_for(spot - level @ OVER_BLADE, level)
-        return self.move_hand(side, p, r, HOLD, precision=0.03, spread=0.3)
 
     def second_sweep(self, side: int) -> Script:
         """Sweep the sandwich over the counter's edge into the pan, along the line from the
@@ -473,18 +369,6 @@ class SandwichToastExpert(SandwichRemoveExpert, PotHandles):
         end = yield from self.walk([stance], carrying=[LEFT], speed=PAN_WALK_SPEED, wait=False, from_plan=True)
         yield from self.steer_held(side, body, lambda x: up + x * (over - up), max(end - self.time, 1.2), 0.3, True)
         yield from self.set_pan_down(side, body, over, spot)
-
-    def set_pan_down(self, side: int, body: int, start: np.ndarray, spot: np.ndarray) -> Script:
-        """From ``start`` down onto the burner at ``spot``, level, and let go (let go of
-        above it, a pan held by its handle would tip onto its far edge and the sandwich
-        slide to the wall)."""
-        down = spot + np.array([0.0, 0.0, 0.004])
-        yield from self.steer_held(side, body, lambda x: start + x * (down - start), 1.2, 0.2, True)
-        sunk = spot - np.array([0.0, 0.0, 0.005])
-        yield from self.steer_held(side, body, lambda x: down + x * (sunk - down), 0.4, 0.1, True)
-        self.held_steer = None
-        self.hold_hand(side, HOLD, tremor=0.2)
-        yield from self.release(side, back=0.06, up=0.05)
 
 
 __all__ = ["SandwichToastExpert"]
