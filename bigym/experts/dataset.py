@@ -32,6 +32,12 @@ DEMOS_PER_TASK = 50
 #: wastes the hour
 ATTEMPTS_PER_DEMO = 5
 SPARE_ATTEMPTS = 5
+#: tasks whose expert keeps fewer than one attempt in five, and the attempts per demo their
+#: build may spend instead: SandwichFlip's keeps about one in six (16% over seeds 0-254;
+#: the turned sandwich's landing and its replays at 50, 25 and 20 Hz are chaotic, see
+#: ``bigym/experts/sandwich_flip.py``), so 50 demos need about 310 attempts, and 8 per demo
+#: (405) leave about two standard deviations of margin. Every demo is verified as any other.
+HARD_TASK_ATTEMPTS_PER_DEMO = {"SandwichFlip": 8}
 FIRST_SEED = 0
 DATASET_TASKS = (
     "ReachTargetSingle",
@@ -73,6 +79,7 @@ DATASET_TASKS = (
     "SandwichToast",
     "DishwasherUnloadPlatesLong",
     "DishwasherUnloadCupsLong",
+    "SandwichFlip",
 )
 MANIFEST_DIR = Path(__file__).parent / "manifests"
 BUILD_RECORD_NAME = "build.json"  # beside a built store's manifest: how each task's build went
@@ -252,7 +259,7 @@ def build_dataset(
             progress=progress,
             date=DATASET_DATE,
             backend=backend,
-            max_attempts=ATTEMPTS_PER_DEMO * per_task + SPARE_ATTEMPTS,
+            max_attempts=max_build_attempts(task, per_task),
         )
         seconds = time.perf_counter() - start
         if report.kept < per_task:
@@ -280,6 +287,11 @@ def build_dataset(
         if on_task is not None:
             on_task(task, report)
     return reports
+
+
+def max_build_attempts(task: str, per_task: int) -> int:
+    """How many attempts a build of ``per_task`` demos of ``task`` may spend before it gives up."""
+    return HARD_TASK_ATTEMPTS_PER_DEMO.get(task, ATTEMPTS_PER_DEMO) * per_task + SPARE_ATTEMPTS
 
 
 def write_shipped_manifest(out: Path | str, tasks: tuple[str, ...] | None = None, version: str = DATASET_VERSION) -> Path:
@@ -414,6 +426,7 @@ __all__ = [
     "DATASET_TASKS",
     "DATASET_VERSION",
     "DEMOS_PER_TASK",
+    "HARD_TASK_ATTEMPTS_PER_DEMO",
     "DatasetCheck",
     "ShippedDataset",
     "build_dataset",
@@ -422,6 +435,7 @@ __all__ = [
     "compare_manifests",
     "dataset_size",
     "dataset_table",
+    "max_build_attempts",
     "shipped_manifest_path",
     "task_complete",
     "write_shipped_manifest",

@@ -33,12 +33,13 @@ miss it: the recording goes on until the plan has ended (``success_after_plan``)
 pan is tilted whether or not the sandwich already lies flat (lowered on the side of the
 pan's middle, so that it slides away from the wall).
 
-What fails (seeds 0-254, recorded and replayed at 500, 50, 25 and 20 Hz as the dataset
-build does: 41 kept, 16%; 6 of seeds 0-19): set-downs in which the sandwich slides on along
-the floor and lies flat, right side up, after which the lift wrenches the spatula out of
-the hand (100) or the person gives up (most of 48 time limits); replays that part from the
-recording, mostly as the sandwich slides down the tipped blade, which it starts to do only
-just past its friction angle, about 39 degrees (35); scoops that drop it over the rim (12).
+What fails (the dataset build, seeds 0-329 recorded and replayed at 500, 50, 25 and 20 Hz:
+50 kept, 15%; it may spend 8 attempts per demo on this task): set-downs in which the sandwich
+slides on along the floor and lies flat, right side up, after which the lift wrenches the
+spatula out of the hand (121) or the person gives up (most of 68 time limits); replays that
+part from the recording, mostly as the sandwich slides down the tipped blade, which it
+starts to do only just past its friction angle, about 39 degrees (49); scoops that drop it
+over the rim (15).
 The far edge is on the floor from about 21 degrees: stopping the tip at that first contact
 left the sandwich too flat to turn (seeds 20-59: 6 kept at 48 degrees, 4 at 42, against 11
 without stopping); tipped only to 35 degrees, it wrenched the spatula more often (5 kept).
