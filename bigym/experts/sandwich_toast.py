@@ -89,6 +89,11 @@ PAN_CARRY_HEIGHT = 0.98
 #: walking with the pan, slowly: it turns in the fingers about their closing axis when the
 #: hand is jerked sideways
 PAN_WALK_SPEED = 0.5
+#: the spatula's hand moved this far (m, world) to the robot's left (it faces the counter,
+#: +x) while the other hand takes and carries the pan: left over the pan, the gripper's
+#: links rubbed on its rim for seconds as it was lifted and carried (in every seed looked
+#: at) and pushed it down or over (most of the pans dropped)
+SPATULA_ASIDE = np.array([0.0, 0.12, 0.0])
 #: the most (m) the blade's aim is corrected: a blade's tip held up by what it pushes must
 #: not drive the hand on down
 MAX_AIM = 0.04
@@ -313,9 +318,9 @@ class SandwichToastExpert(SpatulaAndPan):
     def lift_spatula(self, side: int) -> None:
         """Raise the spatula a little out of the other hand's way, as it is held (not turned
         level as :meth:`stow_spatula` does for a walk: stowed level here, the other hand's
-        grasp of the pan's handle failed)."""
+        grasp of the pan's handle failed), and move it aside, clear of the pan."""
         p, r = self.hand_pose(side)
-        self.move_hand(side, p + np.array([-0.05, 0.0, 0.1]), r, HOLD, duration=0.5, spread=0.0)
+        self.move_hand(side, p + np.array([-0.05, 0.0, 0.1]) + SPATULA_ASIDE, r, HOLD, duration=0.5, spread=0.0)
 
     def hold_pan_at_counter(self, side: int) -> Script:
         """Carry the pan out over the counter's front edge in front of the sandwich, then
@@ -333,7 +338,7 @@ class SandwichToastExpert(SpatulaAndPan):
         start = self.data.xpos[body].copy()
         high = np.array([goal[0], goal[1], max(float(start[2]), PAN_CARRY_HEIGHT)])
         stance = np.array([COUNTER_FRONT - PAN_STANCE_BACK, goal[1], SWEEP_HEIGHT, 0.0])
-        yield from self.until(self.stow_spatula(LEFT))
+        yield from self.until(self.stow_spatula(LEFT, SPATULA_ASIDE))
         end = yield from self.walk([stance], carrying=[LEFT], speed=PAN_WALK_SPEED, wait=False, from_plan=True)
         heading = PAN_HANDLE_HEADING + self.human.jitter(np.deg2rad(5.0))
         yield from self.steer_held(
@@ -365,7 +370,7 @@ class SandwichToastExpert(SpatulaAndPan):
         spot = self.site(HOB, BURNER) + self.human.jitter(0.01, 3) * np.array([1.0, 1.0, 0.0])
         over = np.array([spot[0], spot[1], up[2]])
         stance = np.array([min(COUNTER_FRONT - 0.14, spot[0] - 0.45), spot[1] - 0.05, 0.92, 0.0])
-        yield from self.until(self.stow_spatula(LEFT))
+        yield from self.until(self.stow_spatula(LEFT, SPATULA_ASIDE))
         end = yield from self.walk([stance], carrying=[LEFT], speed=PAN_WALK_SPEED, wait=False, from_plan=True)
         yield from self.steer_held(side, body, lambda x: up + x * (over - up), max(end - self.time, 1.2), 0.3, True)
         yield from self.set_pan_down(side, body, over, spot)

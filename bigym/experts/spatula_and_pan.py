@@ -126,14 +126,17 @@ class SpatulaAndPan(SandwichRemoveExpert, PotHandles):
             yield
             steer.update()
 
-    def stow_spatula(self, side: int) -> float:
+    def stow_spatula(self, side: int, aside: np.ndarray | None = None) -> float:
         """Raise the spatula, turned level (its tip a little up), to be carried about clear
-        over the counter; returns when it is there."""
+        over the counter, moved ``aside`` (m, world) out of the other hand's way; returns
+        when it is there."""
         pos, rot = self.spatula_frame()
         along = np.array([rot[0, 1], rot[1, 1], 0.0])
         level = self.spatula_rotation(along, STOW_PITCH)
         blade = pos + rot @ OVER_BLADE
         spot = np.array([blade[0], blade[1], max(float(blade[2]) + STOW_RISE, STOW_HEIGHT)]) - along * STOW_BACK
+        if aside is not None:
+            spot = spot + aside
         p, r = self.hand_for(spot - level @ OVER_BLADE, level)
         return self.move_hand(side, p, r, HOLD, precision=0.03, spread=0.3)
 
