@@ -33,10 +33,10 @@ DEMOS_PER_TASK = 50
 ATTEMPTS_PER_DEMO = 5
 SPARE_ATTEMPTS = 5
 #: tasks whose expert keeps fewer than one attempt in five, and the attempts per demo their
-#: build may spend instead: SandwichFlip's keeps about one in six (16% over seeds 0-254;
-#: the turned sandwich's landing and its replays at 50, 25 and 20 Hz are chaotic, see
-#: ``bigym/experts/sandwich_flip.py``), so 50 demos need about 310 attempts, and 8 per demo
-#: (405) leave about two standard deviations of margin. Every demo is verified as any other.
+#: build may spend instead: SandwichFlip's keeps about one in seven (v2's build: 50 of 330,
+#: 15%; the turned sandwich's landing and its replays at 50, 25 and 20 Hz are chaotic, see
+#: ``bigym/experts/sandwich_flip.py``), and 8 per demo (405) leave about two standard
+#: deviations of margin over the ~330 that 50 demos need. Every demo is verified as any other.
 HARD_TASK_ATTEMPTS_PER_DEMO = {"SandwichFlip": 8}
 FIRST_SEED = 0
 DATASET_TASKS = (
