@@ -28,16 +28,10 @@ from bigym.demonstrations.store import DATASET_VERSION  # the version this bigym
 DATASET_DATE = "2026-11-23T00:00:00Z"
 DEMOS_PER_TASK = 50
 #: attempts per demo (and spare ones) a task's build may spend before it gives up: the
-#: hardest experts keep about one attempt in three, and a build that stops a few demos short
+#: hardest experts keep about one attempt in two, and a build that stops a few demos short
 #: wastes the hour
 ATTEMPTS_PER_DEMO = 5
 SPARE_ATTEMPTS = 5
-#: tasks whose expert keeps fewer than one attempt in five, and the attempts per demo their
-#: build may spend instead: SandwichFlip's keeps about one in seven (v2's build: 50 of 330,
-#: 15%; the turned sandwich's landing and its replays at 50, 25 and 20 Hz are chaotic, see
-#: ``bigym/experts/sandwich_flip.py``), and 8 per demo (405) leave about two standard
-#: deviations of margin over the ~330 that 50 demos need. Every demo is verified as any other.
-HARD_TASK_ATTEMPTS_PER_DEMO = {"SandwichFlip": 8}
 FIRST_SEED = 0
 DATASET_TASKS = (
     "ReachTargetSingle",
@@ -259,7 +253,7 @@ def build_dataset(
             progress=progress,
             date=DATASET_DATE,
             backend=backend,
-            max_attempts=max_build_attempts(task, per_task),
+            max_attempts=ATTEMPTS_PER_DEMO * per_task + SPARE_ATTEMPTS,
         )
         seconds = time.perf_counter() - start
         if report.kept < per_task:
@@ -287,11 +281,6 @@ def build_dataset(
         if on_task is not None:
             on_task(task, report)
     return reports
-
-
-def max_build_attempts(task: str, per_task: int) -> int:
-    """How many attempts a build of ``per_task`` demos of ``task`` may spend before it gives up."""
-    return HARD_TASK_ATTEMPTS_PER_DEMO.get(task, ATTEMPTS_PER_DEMO) * per_task + SPARE_ATTEMPTS
 
 
 def write_shipped_manifest(out: Path | str, tasks: tuple[str, ...] | None = None, version: str = DATASET_VERSION) -> Path:
@@ -426,7 +415,6 @@ __all__ = [
     "DATASET_TASKS",
     "DATASET_VERSION",
     "DEMOS_PER_TASK",
-    "HARD_TASK_ATTEMPTS_PER_DEMO",
     "DatasetCheck",
     "ShippedDataset",
     "build_dataset",
@@ -435,7 +423,6 @@ __all__ = [
     "compare_manifests",
     "dataset_size",
     "dataset_table",
-    "max_build_attempts",
     "shipped_manifest_path",
     "task_complete",
     "write_shipped_manifest",

@@ -57,7 +57,7 @@ from bigym.envs.sandwich import PAN_FLOOR
 from bigym.experts.expert import ARM_ACTIVE_COST, LEFT, SIDE_NAMES, HandReference, Script
 from bigym.experts.geometry import axis_angle_matrix, frame_from_axes
 from bigym.experts.grasping import EMPTY_GRIP, HOLD, GraspingExpert
-from bigym.props import Sandwich
+from bigym.props import FryingPan, Sandwich
 from bigym.robot.h1 import ARM_JOINTS
 
 PAN = "pan"
@@ -73,9 +73,9 @@ OVER_BLADE = np.array([0.0, 0.0875, 0.024])
 #: the blade's length (m) and how much higher (m) the handle's underside is
 BLADE = 0.09
 HANDLE_RISE = 0.0175
-#: the pan's wall flares out this much (m) at the rim; how far (m) over the rim the blade
-#: and the handle pass
-PAN_FLARE = 0.008
+#: the wall's inner face at the pan's rim is this far (m) out from the bottom's edge; how
+#: far (m) over the rim the blade and the handle pass
+PAN_FLARE = FryingPan.FLARE - FryingPan.WALL
 RIM_CLEARANCE = 0.008
 #: how far (m) before the sandwich's near edge the blade's tip goes down, and the blade's
 #: steepest and flattest pitch (rad below the horizontal) while it goes in

@@ -5,8 +5,9 @@ What a person does: takes the spatula and gets the blade under the sandwich exac
 for taking it out (:class:`~bigym.experts.sandwich.SandwichRemoveExpert`: left hand, the
 blade pushed in along the floor, lifted level); carries it back over the pan until the
 blade's tip is about 10 cm short of the pan's middle, sets it down by tipping the blade
-steeply as the tip comes down to just over the floor, so that the sandwich slides down it
-until its far edge meets the floor and it leans on the blade; draws the blade back along
+steeply as the tip comes down to just over the floor about 8 cm short of the middle (no
+nearer the near wall: the blade must pass over the rim), so that the sandwich slides down
+it until its far edge meets the floor and it leans on the blade; draws the blade back along
 its underside to just short of the raised end, and lifts that end round the edge on the
 floor until the sandwich falls over, upside down. Turning about its edge carries its
 middle about 9 cm past that edge, further than the set-down can leave it short of the
@@ -25,7 +26,17 @@ where it leaned in the recording; setting it down, drawing the blade back and li
 (48 in the probe): tipped further, the sandwich slid down it fast enough for its far edge
 to slip on along the floor, and it ended flat, right side up (5 of 8 seeds at 48, 2 of the
 same 8 at 42). With the tip set down 1 cm over the floor instead of 2, it pressed on the
-floor, wedged, and the spatula was wrenched out of the hand (20 of 20 seeds).
+floor, wedged, and the spatula was wrenched out of the hand (20 of 20 seeds; measured
+while the tip still came down 10 cm short of the middle, see below).
+
+Why the tip comes down where the blade clears the near rim (``set_down_reach``): brought
+down 10 cm short of the middle, as the tip was carried, the steep blade lay across the
+rim, the hand kept pressing it towards where the tip should have been, and the rim
+levered the spatula round in the fingers as the blade was drawn back and lifted: by 5-17
+degrees in the successes, by 40-70 degrees, until it fell out of the hand, in most of the
+121 attempts the first build of dataset v2 lost to a spatula "knocked over". Clear of the
+rim it turns by 1-2 degrees; of seeds 0-39, recorded and verified at every rate, 20 were
+kept instead of the first build's 8.
 
 The task succeeds, at times, on the way (a turned sandwich that comes to rest within 10
 degrees of flat while the pan stands on the hob), where a replay at another rate may just
@@ -33,13 +44,14 @@ miss it: the recording goes on until the plan has ended (``success_after_plan``)
 pan is tilted whether or not the sandwich already lies flat (lowered on the side of the
 pan's middle, so that it slides away from the wall).
 
-What fails (the dataset build, seeds 0-329 recorded and replayed at 500, 50, 25 and 20 Hz:
-50 kept, 15%; it may spend 8 attempts per demo on this task): set-downs in which the sandwich
-slides on along the floor and lies flat, right side up, after which the lift wrenches the
-spatula out of the hand (121) or the person gives up (most of 68 time limits); replays that
-part from the recording, mostly as the sandwich slides down the tipped blade, which it
-starts to do only just past its friction angle, about 39 degrees (49); scoops that drop it
-over the rim (15).
+What fails (the dataset build of 2026-12-06, seeds 0-96 recorded and replayed at 500,
+50, 25 and 20 Hz: 50 kept, 52%): 21 time limits (8 scoops that failed three pushes, 8
+that needed so many pushes that the pan was not settled in time, 5 set-downs in which the
+sandwich slid on along the floor and lay too flat for the lift to turn it, after which the
+person gives up); 13 replays that part from the
+recording, mostly as the sandwich slides down the tipped blade, which it starts to do only
+just past its friction angle, about 39 degrees; 5 successes that did not last; 4
+sandwiches dropped over the rim by the scoop; 4 spatulas knocked over or dropped.
 The far edge is on the floor from about 21 degrees: stopping the tip at that first contact
 left the sandwich too flat to turn (seeds 20-59: 6 kept at 48 degrees, 4 at 42, against 11
 without stopping); tipped only to 35 degrees, it wrenched the spatula more often (5 kept).
@@ -57,7 +69,7 @@ from typing import ClassVar
 import numpy as np
 
 from bigym.envs.sandwich import PAN_FLOOR
-from bigym.experts.cookware import FRONT_CLEARANCE, HOB_OPENING, HOB_TILT
+from bigym.experts.cookware import FRONT_CLEARANCE, HOB_OPENING
 from bigym.experts.expert import LEFT, RIGHT, SIDE_NAMES, HandReference, Script
 from bigym.experts.geometry import axis_angle_matrix
 from bigym.experts.grasping import HOLD
@@ -65,12 +77,13 @@ from bigym.experts.sandwich import (
     ATTEMPTS,
     LEVEL_PITCH,
     PAN,
+    PAN_FLARE,
     SANDWICH,
     SPATULA,
     TIP,
 )
 from bigym.experts.spatula_and_pan import BURNER, COUNTER_FRONT, HOB, STEER_GAIN, SpatulaAndPan
-from bigym.props import Sandwich
+from bigym.props import FryingPan, Sandwich
 
 UP = np.array([0.0, 0.0, 1.0])
 #: the rounded collider's edges: half the sandwich's thickness (m)
@@ -84,6 +97,9 @@ CARRY_HEIGHT = 0.07
 #: spatula was wrenched out of the hand in 20 of 20 seeds)
 SET_PITCH = np.deg2rad(42.0)
 SET_HEIGHT = 0.02
+#: and only so far from the near wall that the blade's underside passes at least this far
+#: (m) over the rim (``set_down_reach``: about 8 cm short of the middle)
+SET_CLEARANCE = 0.004
 #: the tip drawn back along the sandwich's underside to this far (m) short of its raised end
 SHORT = 0.025
 #: how far (rad) the raised end is lifted round the edge on the floor
@@ -95,6 +111,10 @@ SETTLE = 0.5
 #: sandwich leans up on raised
 PAN_LIFT = 0.03
 PAN_TILT = np.deg2rad(30.0)
+#: how steeply (rad below the horizontal) the hand comes down onto the pan's handle: with
+#: the hob's ``HOB_TILT`` (0.15) the lower finger's links ran into the counter in front of
+#: the hob, short of the handle, and the hand gave up after three tries (5 of 40 seeds)
+PAN_TAKE_TILT = 0.4
 
 
 class SandwichFlipExpert(SpatulaAndPan):
@@ -141,6 +161,14 @@ class SandwichFlipExpert(SpatulaAndPan):
         reach = Sandwich.SIZE[axis] / 2 - EDGE_RADIUS
         return centre + slope * reach, centre - slope * reach
 
+    def set_down_reach(self, pitch: float, clearance: float) -> float:
+        """How far (m) short of the pan's middle the blade's tip may come down to
+        ``SET_HEIGHT`` over the floor, tipped ``pitch``, with its underside ``clearance``
+        over the near rim: a blade laid across the rim is levered round in the hand."""
+        rim_radius = self.env.props[PAN].radius + PAN_FLARE
+        rim_height = FryingPan.DEPTH - PAN_FLOOR
+        return float(rim_radius - (rim_height + clearance - SET_HEIGHT) / np.tan(pitch))
+
     def upside_down(self) -> bool:
         return bool(self.data.xmat[self.env.props[SANDWICH].root_body_id][8] < 0.0)
 
@@ -185,16 +213,21 @@ class SandwichFlipExpert(SpatulaAndPan):
         back = TIP_BACK + self.human.jitter(0.005)
         steep = SET_PITCH + self.human.jitter(np.deg2rad(1.5))
         turn = TURN + self.human.jitter(np.deg2rad(4.0))
-        self.choices["set down"] = {"back": round(back, 3), "pitch": round(float(np.degrees(steep)), 1)}
+        short = self.set_down_reach(steep, SET_CLEARANCE + abs(self.human.jitter(0.002)))
+        self.choices["set down"] = {
+            "back": round(back, 3),
+            "short": round(short, 3),
+            "pitch": round(float(np.degrees(steep)), 1),
+        }
         # carried back, level
         start, pitch0 = self.tip(), self.blade_pitch()
         carried = np.array([*(pan[:2] - along[:2] * back), floor + CARRY_HEIGHT])
         yield from self.steer_blade(
             side, along, lambda x: (start + x * (carried - start), pitch0 + x * (LEVEL_PITCH - pitch0)), CARRY_TIME
         )
-        # set down on its far edge
+        # set down on its far edge, the blade clear of the pan's near rim
         self.note("set down")
-        down = np.array([*carried[:2], floor + SET_HEIGHT])
+        down = np.array([*(pan[:2] - along[:2] * short), floor + SET_HEIGHT])
         yield from self.steer_blade(
             side, along, lambda x: (carried + x * (down - carried), LEVEL_PITCH + x * (steep - LEVEL_PITCH)), SET_TIME
         )
@@ -227,7 +260,9 @@ class SandwichFlipExpert(SpatulaAndPan):
         self.note("take pan")
         handle, along, approach, stance = self.hob_handle(PAN, side, COUNTER_FRONT - FRONT_CLEARANCE)
         yield from self.walk([stance], carrying=[LEFT])
-        yield from self.take_handle(side, PAN, handle, along, approach, PAN_LIFT, tilt=HOB_TILT, opening=HOB_OPENING)
+        yield from self.take_handle(
+            side, PAN, handle, along, approach, PAN_LIFT, tilt=PAN_TAKE_TILT, opening=HOB_OPENING
+        )
         body = self.env.props[PAN].root_body_id
         held = self.data.xpos[body].copy()
         yield from self.steer_held(side, body, lambda x: held, 0.3, 0.0, True)

@@ -25,6 +25,9 @@ class _Pot(Prop):
     RADIUS = 0.1
     DEPTH = 0.05
     HANDLE = 0.2
+    #: the wall's thickness (m), and how far (m) it flares out from the bottom to the rim
+    WALL = 0.004
+    FLARE = 0.0
     COLOR: tuple[float, float, float, float] = _PAN
 
     def __init__(
@@ -34,8 +37,8 @@ class _Pot(Prop):
         self.radius = self._vary(self.RADIUS, 0.03)
         self.rgba = rgba or self._color(self.COLOR, 0.03)
 
-    def _pot(self, spec, root, part: str, flare: float, handle_z: float, handle_rgba) -> None:
-        R, D, t = self.radius, self.DEPTH, 0.004
+    def _pot(self, spec, root, part: str, handle_z: float, handle_rgba) -> None:
+        R, D, t, flare = self.radius, self.DEPTH, self.WALL, self.FLARE
         Rt = R + flare
         self._lathe(
             spec, root, [(0, 0), (R, 0), (Rt, D), (Rt - t, D), (R - t, 0.005), (0, 0.005)], self.rgba, segments=32
@@ -60,9 +63,10 @@ class FryingPan(_Pot):
     RADIUS = 0.1
     DEPTH = 0.045
     HANDLE = 0.2
+    FLARE = 0.012
 
     def _build(self, spec, root) -> None:
-        self._pot(spec, root, "pan", 0.012, self.DEPTH - 0.01, Colors.BLACK)
+        self._pot(spec, root, "pan", self.DEPTH - 0.01, Colors.BLACK)
 
 
 class Saucepan(_Pot):
@@ -76,7 +80,7 @@ class Saucepan(_Pot):
     COLOR = Colors.STEEL
 
     def _build(self, spec, root) -> None:
-        self._pot(spec, root, "saucepan", 0.0, self.DEPTH - 0.012, Colors.BLACK)
+        self._pot(spec, root, "saucepan", self.DEPTH - 0.012, Colors.BLACK)
 
 
 class Spatula(Prop):
