@@ -4,8 +4,11 @@ Run: ``python benchmarks/sandwich_flip_probe.py [--seeds 0-11] [--verify]``.
 
 The prototype ``SandwichFlip``'s demonstrator (``bigym/experts/sandwich_flip.py``) grew
 from, kept with what it measured: the expert turns the sandwich the same way, more slowly
-and with the blade tipped less to set it down, and settles the sandwich that comes to rest
-on the pan's wall by tilting the pan with the other hand. It takes
+and with the blade tipped less to set it down, sets the tip down where the blade passes
+over the pan's near rim (about 8 cm short of the middle: here the tip comes down
+``--tip-back`` short, and at 10 cm the blade lies across the rim, which levers the spatula
+round in the hand), and settles the sandwich that comes to rest on the pan's wall by
+tilting the pan with the other hand. It takes
 the spatula and scoops the sandwich up exactly as ``SandwichRemoveExpert`` does, then:
 
 1. carries it, level, back over the pan until the blade's tip is ``--tip-back`` m short
