@@ -48,18 +48,19 @@ What fails (the dataset build of 2026-12-06, seeds 0-96 recorded and replayed at
 50, 25 and 20 Hz: 50 kept, 52%): 21 time limits (8 scoops that failed three pushes, 8
 that needed so many pushes that the pan was not settled in time, 5 set-downs in which the
 sandwich slid on along the floor and lay too flat for the lift to turn it, after which the
-person gives up); 13 replays that part from the
-recording, mostly as the sandwich slides down the tipped blade, which it starts to do only
-just past its friction angle, about 39 degrees; 5 successes that did not last; 4
-sandwiches dropped over the rim by the scoop; 4 spatulas knocked over or dropped.
+person gives up); 13 replays that part from the recording, mostly as the sandwich slides
+down the tipped blade, which it starts to do only just past its friction angle, about 39
+degrees; 5 successes that did not last; 4 sandwiches dropped over the rim by the scoop; 4
+spatulas knocked over or dropped.
 The far edge is on the floor from about 21 degrees: stopping the tip at that first contact
 left the sandwich too flat to turn (seeds 20-59: 6 kept at 48 degrees, 4 at 42, against 11
 without stopping); tipped only to 35 degrees, it wrenched the spatula more often (5 kept).
 
 Choices drawn per demo: those of the scoop (see ``sandwich.py``), how far back the blade
-is set down, how steeply, how far it turns the sandwich, how far the pan is tilted, the
-timing and every path's via-points. Always the left hand for the spatula, as in
-``SandwichRemove``, and the right for the pan, whose handle points to the robot's right.
+is carried, how far over the rim it passes as it is set down, how steeply, how far it
+turns the sandwich, how far the pan is tilted, the timing and every path's via-points.
+Always the left hand for the spatula, as in ``SandwichRemove``, and the right for the pan,
+whose handle points to the robot's right.
 """
 
 from __future__ import annotations
